@@ -110,7 +110,8 @@ def run_lmp(input_text: str, workdir: Path | str, nprocs: int = 1,
     if nprocs > 1:
         cmd = mpi_command(nprocs) + cmd
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=timeout, env=env)
+    proc = subprocess.run(cmd, cwd=workdir, capture_output=True, timeout=timeout, env=env,
+                          encoding="utf-8", errors="replace")  # LIGGGHTS may print stray bytes
     log_path = workdir / "log.lammps"
     log = log_path.read_text(errors="replace") if log_path.exists() else ""
     run = LmpRun(workdir=workdir, returncode=proc.returncode, stdout=proc.stdout, stderr=proc.stderr,

@@ -1,0 +1,127 @@
+// LIGGGHTS adapter for the EEPA normal contact law (physics/eepa_law.h).
+//
+//   pair_style gran model eepa tangential history rolling_friction cdt
+//
+// This file only connects the law to LIGGGHTS: per-type-pair parameters, the per-contact history,
+// the dashpot and the forces. The law, its sources and every modelling choice: docs/eepa.md.
+#ifdef NORMAL_MODEL
+NORMAL_MODEL(EEPA,eepa,20)
+#else
+#ifndef TSG_NORMAL_MODEL_EEPA_H
+#define TSG_NORMAL_MODEL_EEPA_H
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "contact_models.h"
+#include "eepa_properties.h"
+#include "force.h"
+#include "global_properties.h"
+#include "normal_model_base.h"
+
+#include "eepa_law.h"
+
+namespace LIGGGHTS {
+namespace ContactModels {
+
+template<>
+class NormalModel<EEPA> : public NormalModelBase
+{
+public:
+  NormalModel(LAMMPS *lmp, IContactHistorySetup *hsetup, class ContactModelBase *)
+    : NormalModelBase(lmp, hsetup, nullptr)
+  {
+    // Scalars: flag "0" keeps LIGGGHTS from negating them for the partner atom on exchange.
+    max_overlap_offset_ = hsetup->add_history_value("eepa_max_overlap", "0");
+    plastic_overlap_offset_ = hsetup->add_history_value("eepa_plastic_overlap", "0");
+  }
+
+  void registerSettings(Settings &settings)
+  {
+    settings.registerOnOff("tangential_damping", tangential_damping_, true);
+  }
+
+  void postSettings(IContactHistorySetup *, ContactModelBase *) {}
+
+  void connectToProperties(PropertyRegistry &registry)
+  {
+    registry.registerProperty("Yeff", &MODEL_PARAMS::createYeff, "model eepa");
+    registry.registerProperty("betaeff", &MODEL_PARAMS::createBetaEff, "model eepa");
+    registry.connect("Yeff", Yeff_, "model eepa");
+    registry.connect("betaeff", betaeff_, "model eepa");
+    eepa_properties_.connect(registry, "model eepa");
+  }
+
+  // Used by heat conduction to scale the contact area: the loading-branch exponent.
+  double stressStrainExponent() { return eepa_properties_.slope_exponent_for_heat(); }
+
+  inline void surfacesIntersect(SurfacesIntersectData &sidata, ForceData &i_forces, ForceData &j_forces)
+  {
+    if (sidata.contact_flags) *sidata.contact_flags |= CONTACT_NORMAL_MODEL;
+    const int itype = sidata.itype;
+    const int jtype = sidata.jtype;
+    const double reff = sidata.is_wall ? sidata.radi : sidata.radi * sidata.radj / (sidata.radi + sidata.radj);
+    const tsg::eepa::Parameters law = eepa_properties_.parameters(Yeff_[itype][jtype], reff, itype, jtype);
+
+    double *history = sidata.contact_history;
+    const tsg::eepa::History previous{history[max_overlap_offset_], history[plastic_overlap_offset_]};
+    const tsg::eepa::State state = tsg::eepa::evaluate(law, previous, sidata.deltan);
+    if (sidata.computeflag && sidata.shearupdate) {
+      history[max_overlap_offset_] = state.history.max_overlap;
+      history[plastic_overlap_offset_] = state.history.plastic_overlap;
+    }
+
+    // dashpot with the active branch's tangent stiffness; LIGGGHTS' vn is -dδ/dt
+    const double beta = betaeff_[itype][jtype];
+    const double damping = tsg::eepa::damping_force(beta, state.stiffness, sidata.meff, -sidata.vn);
+    const double normal_force = state.force + damping;
+
+    // Tangential spring: ζ_tm times the normal tangent stiffness, Hertz-Mindlin dashpot on it.
+    const double kt = eepa_properties_.tangential_multiplier(itype, jtype) * state.stiffness;
+    constexpr double sqrt_five_sixths = 0.91287092917527685576;
+    sidata.kt = kt / force->nktv2p;
+    sidata.gammat = tangential_damping_ ? -2. * sqrt_five_sixths * beta * std::sqrt(kt * sidata.meff) : 0.0;
+    sidata.gamman = -2. * sqrt_five_sixths * beta * std::sqrt(state.stiffness * sidata.meff);
+    // Friction and CDT rolling resistance see the adhesion-corrected load (Thakur 2014):
+    // tangential history uses |Fn|, CDT rolling uses kn·δ.
+    sidata.Fn = state.coulomb_load + damping;
+    sidata.kn = state.coulomb_load / sidata.deltan;
+
+    if (sidata.is_wall) {
+      const double fn = normal_force * sidata.area_ratio;
+      i_forces.delta_F[0] += fn * sidata.en[0];
+      i_forces.delta_F[1] += fn * sidata.en[1];
+      i_forces.delta_F[2] += fn * sidata.en[2];
+    } else {
+      i_forces.delta_F[0] += normal_force * sidata.en[0];
+      i_forces.delta_F[1] += normal_force * sidata.en[1];
+      i_forces.delta_F[2] += normal_force * sidata.en[2];
+      j_forces.delta_F[0] -= normal_force * sidata.en[0];
+      j_forces.delta_F[1] -= normal_force * sidata.en[1];
+      j_forces.delta_F[2] -= normal_force * sidata.en[2];
+    }
+  }
+
+  void surfacesClose(SurfacesCloseData &scdata, ForceData &, ForceData &)
+  {
+    if (scdata.contact_flags) *scdata.contact_flags |= CONTACT_NORMAL_MODEL;
+  }
+
+  void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
+  void endPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
+
+private:
+  double **Yeff_ = nullptr;
+  double **betaeff_ = nullptr;
+  bool tangential_damping_ = true;
+  int max_overlap_offset_ = -1;
+  int plastic_overlap_offset_ = -1;
+  tsg::EepaProperties eepa_properties_;
+};
+
+}  // namespace ContactModels
+}  // namespace LIGGGHTS
+
+#endif
+#endif
