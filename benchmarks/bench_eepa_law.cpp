@@ -2,8 +2,6 @@
 // the Hertz-Mindlin dashpot, on the same overlap/velocity sequence; prints EEPA/Hertz ratios.
 //
 //   bench_eepa_law [--benchmark_min_time=1]
-#include "eepa_law.h"
-
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -11,6 +9,8 @@
 #include <map>
 #include <string>
 #include <vector>
+
+#include "eepa_law.h"
 
 namespace {
 
@@ -100,15 +100,17 @@ BENCHMARK(BM_Hertz);
 BENCHMARK(BM_EEPA_Cohesive);
 BENCHMARK(BM_EEPA_ConstantPullOff);
 
-// Console reporter that also keeps each run's evaluations per second.
+// Console reporter that also keeps each benchmark's evaluations per second (the mean over
+// repetitions when --benchmark_repetitions is given).
 class RateReporter : public benchmark::ConsoleReporter {
  public:
   RateReporter() : ConsoleReporter(OO_Tabular) {}
   std::map<std::string, double> rate;
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& run : runs) {
+      if (run.run_type == Run::RT_Aggregate && run.aggregate_name != "mean") continue;
       const auto it = run.counters.find("items_per_second");
-      if (it != run.counters.end()) rate[run.benchmark_name()] = it->second.value;
+      if (it != run.counters.end()) rate[run.run_name.function_name] = it->second.value;
     }
     ConsoleReporter::ReportRuns(runs);
   }

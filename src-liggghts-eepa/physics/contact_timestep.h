@@ -21,7 +21,7 @@ inline double rayleigh_time(double radius, double density, double shear_modulus,
 //   δmax = ((n+1) m* v^2 / (2 k1))^(1/(n+1))                        energy balance
 //   t_c  = 2 (δmax/v) ∫0^1 dx / sqrt(1 - x^(n+1)) = (2/(n+1)) B(1/(n+1), 1/2) δmax / v
 // n = 1 gives π sqrt(m*/k1); n = 1.5 gives Johnson's 2.943 δmax/v (Contact Mechanics, 1985,
-// eq. 11.24), i.e. t_c ∝ v^(-1/5).
+// Ch. 11), i.e. t_c ∝ v^(-1/5).
 inline double hertz_collision_time(double k1, double slope_exponent, double reduced_mass,
                                    double impact_speed) {
   const double n = slope_exponent;
@@ -38,9 +38,10 @@ inline double verlet_stable_step(double stiffness, double reduced_mass) {
   return 2 * std::sqrt(reduced_mass / stiffness);
 }
 
-// Factor by which EEPA's stiffer unloading branch, k2 = k1/(1 - λp), shortens any step that
-// scales with sqrt(m/k_eff) (the two above, and the Rayleigh time used as a stand-in for the
-// k1 branch): sqrt(k1/k2) = sqrt(1 - λp). λp = 0.8 (seed) gives 1/sqrt(5) = 0.447.
+// Factor by which EEPA's stiffer unloading branch, k2 = k1/(1 - λp), shortens a step that scales
+// with sqrt(m/k_eff) at a given overlap (verlet_stable_step on the branch tangent stiffness; the
+// Rayleigh time, taken as the k1-branch estimate): sqrt(k1/k2) = sqrt(1 - λp).
+// λp = 0.8 (seed) gives 1/sqrt(5) = 0.447.
 inline double eepa_step_factor(double plasticity_ratio) { return std::sqrt(1 - plasticity_ratio); }
 
 }  // namespace tsg::timestep

@@ -119,8 +119,7 @@ inline AdhesiveBranch adhesive_branch(const Parameters& p, double k2, double max
 inline double adhesion(const Parameters& p, const AdhesiveBranch& branch, double overlap_n) {
   if (!(branch.f_min > 0)) return 0;
   if (overlap_n >= branch.min_n) return branch.f_min;
-  return branch.f_min *
-         std::pow(overlap_n / branch.min_n, p.tension_exponent / p.slope_exponent);
+  return branch.f_min * std::pow(overlap_n / branch.min_n, p.tension_exponent / p.slope_exponent);
 }
 
 }  // namespace detail
@@ -181,9 +180,8 @@ inline State evaluate(const Parameters& p, const History& previous, double overl
     const double plastic_per_overlap = std::pow(lambda, 1 / n);  // δp/δ of a line leaving k1
     const double max_overlap = std::max(previous.max_overlap, overlap);
     const History history{max_overlap, plastic_per_overlap * overlap};
-    const detail::AdhesiveBranch adhesive =
-        detail::adhesive_branch(p, k2, plastic_per_overlap * max_overlap,
-                                lambda * detail::power(max_overlap, n));
+    const detail::AdhesiveBranch adhesive = detail::adhesive_branch(
+        p, k2, plastic_per_overlap * max_overlap, lambda * detail::power(max_overlap, n));
     const double elastic = p.k1 * overlap_n;
     const double pull = detail::adhesion(p, adhesive, overlap_n);
     return {f0 + elastic, p.k1 * slope, elastic + pull, Branch::Loading, history};
@@ -192,8 +190,7 @@ inline State evaluate(const Parameters& p, const History& previous, double overl
   const double line = k2 * (overlap_n - plastic_n);
   const double pull =
       detail::adhesion(p, detail::adhesive_branch(p, k2, previous.max_overlap), overlap_n);
-  if (line >= -pull)
-    return {f0 + line, k2 * slope, line + pull, Branch::Unloading, previous};
+  if (line >= -pull) return {f0 + line, k2 * slope, line + pull, Branch::Unloading, previous};
   const History history{previous.max_overlap, std::pow(overlap_n + pull / k2, 1 / n)};
   return {f0 - pull, k2 * slope, 0, Branch::Adhesive, history};
 }

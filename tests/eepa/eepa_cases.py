@@ -93,14 +93,14 @@ def closed_form_restitution(plasticity_ratio: float, slope_exponent: float) -> f
 
 
 def impact(tmp_path: Path, model_include: str, speed: float, dt: float = 2e-8,
-           nprocs: int = 1) -> tuple[float, LmpRun]:
+           nprocs: int = 1, timeout: float = 600) -> tuple[float, LmpRun]:
     """Head-on impact of two spheres at ±speed; returns the measured restitution."""
     approach = 2 * speed
     max_overlap = (5 * (MASS / 2) * approach**2 / (4 * K1)) ** 0.4    # Hertz energy balance
     contact_time = 2.943 * max_overlap / approach                      # Johnson (1985) eq. 11.24
     gap = 4e-6                                                         # initial gap in the input
     nsteps = int((gap / approach + 3 * contact_time) / dt) // 100 * 100 + 100
-    run = run_lmp((INPUTS / "in.two_sphere_impact").read_text(), tmp_path, nprocs=nprocs,
+    run = run_lmp((INPUTS / "in.two_sphere_impact").read_text(), tmp_path, nprocs=nprocs, timeout=timeout,
                   variables={"v": speed, "nsteps": nsteps, "dt": dt},
                   files={"model.include": model_include})
     thermo = run.thermo[-1]

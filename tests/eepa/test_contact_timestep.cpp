@@ -1,11 +1,11 @@
 // Unit tests of the critical time-step estimates (src-liggghts-eepa/physics/contact_timestep.h).
-#include "contact_timestep.h"
-#include "eepa_law.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <iostream>
+
+#include "contact_timestep.h"
+#include "eepa_law.h"
 
 namespace {
 
@@ -33,9 +33,9 @@ TEST(RayleighTime, SeedPaperParticles) {
   // percentages are rounded up, consistent with diameters of 400 and 200 um.
   EXPECT_NEAR(5e-7 / t400, 0.0847, 5e-4);
   EXPECT_NEAR(5e-7 / t200, 0.1694, 5e-4);
-  std::cout << "[ measured ] Rayleigh time, 400 um (R = 200 um): " << t400
-            << " s; 5e-7 s is " << 100 * 5e-7 / t400 << " % of it; 200 um: " << t200 << " s, "
-            << 100 * 5e-7 / t200 << " %\n";
+  std::cout << "[ measured ] Rayleigh time, 400 um (R = 200 um): " << t400 << " s; 5e-7 s is "
+            << 100 * 5e-7 / t400 << " % of it; 200 um: " << t200 << " s, " << 100 * 5e-7 / t200
+            << " %\n";
 }
 
 TEST(HertzCollisionTime, LinearSpringIsHalfAPeriod) {
@@ -48,7 +48,8 @@ TEST(HertzCollisionTime, LinearSpringIsHalfAPeriod) {
 TEST(HertzCollisionTime, HertzMatchesJohnsonAndScalesWithSpeedToMinusOneFifth) {
   const double k1 = 3.0e5, m = 2e-8;
   for (double v : {0.1, 1.0}) {
-    const double max_overlap = std::pow(5 * m * v * v / (4 * k1), 0.4);  // (1/2) m v^2 = (2/5) k1 d^2.5
+    const double max_overlap =
+        std::pow(5 * m * v * v / (4 * k1), 0.4);  // (1/2) m v^2 = (2/5) k1 d^2.5
     EXPECT_NEAR(hertz_collision_time(k1, 1.5, m, v), 2.94328 * max_overlap / v,
                 1e-5 * 2.94328 * max_overlap / v);
   }
@@ -88,7 +89,8 @@ TEST(VerletStableStep, BoundsTheStepOfALinearOscillator) {
     }
     return largest;
   };
-  EXPECT_LT(amplitude_after(0.95 * limit), 10.0);  // Verlet amplitude factor 1/sqrt(1 - (w dt/2)^2) = 3.2
+  EXPECT_LT(amplitude_after(0.95 * limit),
+            10.0);  // Verlet amplitude factor 1/sqrt(1 - (w dt/2)^2) = 3.2
   EXPECT_GT(amplitude_after(1.01 * limit), 1e3);
 }
 
@@ -104,8 +106,8 @@ TEST(EepaStepFactor, EqualsStableStepRatioOfTheLawsBranchStiffnesses) {
     const double m = 2e-8, d = 2e-6;
     const tsg::eepa::State loading = tsg::eepa::evaluate(p, {}, d);
     const tsg::eepa::State unloading = tsg::eepa::evaluate(p, loading.history, 0.999999 * d);
-    const double ratio = verlet_stable_step(unloading.stiffness, m) /
-                         verlet_stable_step(loading.stiffness, m);
+    const double ratio =
+        verlet_stable_step(unloading.stiffness, m) / verlet_stable_step(loading.stiffness, m);
     EXPECT_NEAR(ratio, eepa_step_factor(lambda) / std::sqrt(std::pow(0.999999, 0.5)), 1e-9)
         << lambda;
   }

@@ -1,8 +1,6 @@
 // Unit tests of the EEPA normal contact law (src-liggghts-eepa/physics/eepa_law.h).
 // Expected values are written from the equations of docs/eepa-law.md, never read back from the
 // code under test.
-#include "eepa_law.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,13 +10,15 @@
 #include <string>
 #include <vector>
 
+#include "eepa_law.h"
+
 namespace {
 
 using tsg::eepa::Branch;
+using tsg::eepa::evaluate;
 using tsg::eepa::History;
 using tsg::eepa::Parameters;
 using tsg::eepa::State;
-using tsg::eepa::evaluate;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -51,14 +51,14 @@ Parameters no_adhesion(double plasticity_ratio, double slope_exponent) {
   p.slope_exponent = slope_exponent;
   p.pull_off_force = 0;
   p.surface_energy = 0;
-  if (slope_exponent == 1) p.k1 = 2 * effective_modulus() * effective_radius() * 1e-2;  // N/m
+  if (slope_exponent == 1) p.k1 = 450;  // linear spring, N/m; e depends on lambda_p and n only
   return p;
 }
 
 double k2_of(const Parameters& p) { return p.k1 / (1 - p.plasticity_ratio); }
 double pw(double x, double e) { return std::pow(x, e); }
 
-// Walks a contact through a list of overlaps, keeping the history as LIGGGHTS would.
+// One contact stepped through overlaps, keeping the history as LIGGGHTS would.
 struct Contact {
   Parameters p;
   History history{};
@@ -223,13 +223,13 @@ TEST(EepaContinuity, ForceIsContinuousAlongLoadUnloadReloadPaths) {
       const State s = c.step(d);
       // Lipschitz bound of the law over this path: k2 line slope at the largest overlap, and the
       // adhesive branch slope X f_min / delta_min at its steepest
-      const tsg::eepa::PullOff pull = tsg::eepa::pull_off(p, s.history.max_overlap);
+      const HandPullOff pull = hand_pull_off(p, std::max(s.history.max_overlap, d1));
       const double lipschitz =
-          std::max(n * k2 * pw(largest, n - 1), X * pull.force / std::max(pull.overlap, 1e-300));
+          std::max(n * k2 * pw(largest, n - 1), X * pull.f_min / pull.delta_min);
       const double step = std::fabs(to - from) / steps;
       ASSERT_LE(std::fabs(s.force - last.force), 1.01 * lipschitz * step)
-          << "jump at d = " << d << " between branches " << static_cast<int>(last.branch)
-          << " and " << static_cast<int>(s.branch);
+          << "jump at d = " << d << " between branches " << static_cast<int>(last.branch) << " and "
+          << static_cast<int>(s.branch);
       if (seen.empty() || seen.back() != s.branch) seen.push_back(s.branch);
       last = s;
     }
@@ -268,9 +268,11 @@ TEST(EepaRejoin, ReloadRejoinsK1ExactlyAtMaxOverlap) {
     const State above = evaluate(p, c.history, d1 * (1 + 1e-12));
     EXPECT_EQ(below.branch, Branch::Unloading) << lambda;
     EXPECT_EQ(above.branch, Branch::Loading) << lambda;
-    const double line = p.pull_off_force + k2_of(p) * (pw(d1 * (1 - 1e-12), n) - lambda * pw(d1, n));
+    const double line =
+        p.pull_off_force + k2_of(p) * (pw(d1 * (1 - 1e-12), n) - lambda * pw(d1, n));
     EXPECT_NEAR(below.force, line, 1e-12 * k2_of(p) * pw(d1, n)) << lambda;
-    EXPECT_NEAR(below.force, on_k1, 2 * n * k2_of(p) * pw(d1, n) * 1e-12) << lambda;  // slope x step
+    EXPECT_NEAR(below.force, on_k1, 2 * n * k2_of(p) * pw(d1, n) * 1e-12)
+        << lambda;  // slope x step
     EXPECT_NEAR(at.force, on_k1, 1e-12 * p.k1 * pw(d1, n)) << lambda;
     EXPECT_NEAR(above.force, on_k1, 1e-10 * p.k1 * pw(d1, n)) << lambda;
     EXPECT_DOUBLE_EQ(below.history.max_overlap, d1);
@@ -339,7 +341,7 @@ TEST(EepaPullOff, CapWhenJkrPullOffExceedsHalfTheLineTension) {
   p.surface_energy = 1e6;
   const double n = p.slope_exponent, k2 = k2_of(p), d1 = 5e-6;
   const double plastic = pw(p.plasticity_ratio, 1 / n) * d1;
-  const double f_min = 0.5 * k2 * pw(plastic, n);  // capped: k2 delta_p^n / 2
+  const double f_min = 0.5 * k2 * pw(plastic, n);     // capped: k2 delta_p^n / 2
   const double delta_min = pw(0.5, 1 / n) * plastic;  // k2 (dmin^n - dp^n) = -f_min
   const tsg::eepa::PullOff pull = tsg::eepa::pull_off(p, d1);
   EXPECT_NEAR(pull.force, f_min, 1e-12 * f_min);
@@ -388,16 +390,16 @@ TEST(EepaCoulombLoad, ThakurFormWithAdhesionCappedAtFmin) {
   // |f_hys + kadh d^X - f0| with kadh d^X capped at f_min for d >= delta_min
   EXPECT_NEAR(c.step(d1).coulomb_load, k1 * pw(d1, n) + h.f_min, 1e-12 * k1 * pw(d1, n));
   const double d_line = 0.98 * h.delta_min / 0.95;  // just above delta_min on the k2 line
-  EXPECT_NEAR(c.step(d_line).coulomb_load,
-              k2 * (pw(d_line, n) - pw(h.plastic, n)) + h.f_min, 1e-9 * h.f_min);
+  EXPECT_NEAR(c.step(d_line).coulomb_load, k2 * (pw(d_line, n) - pw(h.plastic, n)) + h.f_min,
+              1e-9 * h.f_min);
   const double d_adh = 0.95 * h.delta_min;
   const State adhesive = c.step(d_adh);
   ASSERT_EQ(adhesive.branch, Branch::Adhesive);
   EXPECT_EQ(adhesive.coulomb_load, 0);
   const double d_re = 0.96 * h.delta_min;  // reloaded on the new line below delta_min
   const double plastic_n = pw(d_adh, n) + h.kadh / k2 * pw(d_adh, X);
-  EXPECT_NEAR(c.step(d_re).coulomb_load,
-              k2 * (pw(d_re, n) - plastic_n) + h.kadh * pw(d_re, X), 1e-9 * h.f_min);
+  EXPECT_NEAR(c.step(d_re).coulomb_load, k2 * (pw(d_re, n) - plastic_n) + h.kadh * pw(d_re, X),
+              1e-9 * h.f_min);
   // without surface energy the load is the elastic part alone
   Contact plain{f0_only()};
   EXPECT_NEAR(plain.step(d1).coulomb_load, k1 * pw(d1, n), 1e-12 * k1 * pw(d1, n));
@@ -543,11 +545,10 @@ TEST(EepaExtremes, OutputsFiniteAndBoundedForExtremeInputs) {
               const State s = c.step(d);
               reached = std::max(reached, d);
               ASSERT_TRUE(std::isfinite(s.force) && std::isfinite(s.stiffness) &&
-                          std::isfinite(s.coulomb_load) &&
-                          std::isfinite(s.history.max_overlap) &&
+                          std::isfinite(s.coulomb_load) && std::isfinite(s.history.max_overlap) &&
                           std::isfinite(s.history.plastic_overlap))
-                  << "lambda " << lambda << " n " << n << " X " << X << " gamma " << gamma
-                  << " d " << d;
+                  << "lambda " << lambda << " n " << n << " X " << X << " gamma " << gamma << " d "
+                  << d;
               ASSERT_GE(s.stiffness, 0);
               ASSERT_GE(s.coulomb_load, 0);
               // bounded: f0 - k2 delta_p^n / 2 <= f <= f0 + k1 delta_max^n

@@ -81,6 +81,25 @@ def test_particle_wall_impact_with_hertz_walls_in_the_same_run(tmp_path):
     assert thermo["v1"][-1] / 0.5 == pytest.approx(0.7, rel=0.01)   # Hertz wall keeps its e
 
 
+def test_eepa_on_walls_is_defined_and_matches_the_closed_form(tmp_path):
+    # EEPA selected for the wall too: same law with R* = R; the undamped restitution of a sphere
+    # on a rigid wall has the same closed form as the two-body impact (it depends on λp and n only)
+    walls = "fix floor all wall/gran model eepa tangential history primitive type 1 xplane -0.002003\n"
+    text = (INPUTS / "in.two_sphere_impact").read_text()
+    text = text.replace("create_atoms 1 single  0.001002 0 0 units box\n", "")
+    text = text.replace("set atom 2 vx -${v}\n", "").replace("set atom 1 vx  ${v}", "set atom 1 vx -${v}")
+    text = text.replace("variable gap equal x[2]-x[1]-0.002", "variable gap equal x[1]-0.001+0.002003")
+    text = text.replace("variable v2 equal vx[2]", "variable v2 equal 0")
+    law = Eepa(plasticity_ratio=0.5, pull_off_force=0.0, restitution=1.0)
+    run = run_lmp(text, tmp_path, variables={"v": 0.5, "nsteps": 20000, "dt": 2e-8},
+                  files={"model.include": law.include(walls)})
+    run.assert_clean()
+    thermo = run.thermo[-1]
+    assert all(np.all(np.isfinite(c)) for c in thermo.values())
+    assert thermo["gap"][-1] > 0, "the sphere did not leave the wall"
+    assert thermo["v1"][-1] / 0.5 == pytest.approx(closed_form_restitution(0.5, 1.5), abs=2e-4)
+
+
 def cluster_input(law: Eepa, nsteps: int) -> tuple[str, dict]:
     text = (INPUTS / "in.two_sphere_impact").read_text()
     start = text.index("create_atoms 1 single -0.001002")
