@@ -1,0 +1,173 @@
+"""Matplotlib figures of the report (Agg backend: files only, no display needed)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
+import numpy as np  # noqa: E402
+
+from .cross_section import BORE_RADIUS, CENTRE_DISTANCE, SolidFractionMap  # noqa: E402
+from .massflow import PlaneFlows, SteadyState  # noqa: E402
+from .profiles import QUANTITIES, ElementProfile, aligned_positions  # noqa: E402
+from .rtd import (RTDComparison, RTDStatistics, cumulative_distribution, histogram_edges,  # noqa: E402
+                  open_dispersion_density, rtd_histogram, tanks_in_series_density)
+from .run_files import MassFlowRecord, Zones  # noqa: E402
+
+
+def _save(fig: plt.Figure, path: Path) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return Path(path)
+
+
+def plot_rtd(path: Path, label: str, samples: dict[str, np.ndarray], stats: dict[str, RTDStatistics]) -> Path:
+    """E(t) with the least-squares fits, and F(t), for the total and each element type."""
+    fig, axes = plt.subplots(2, len(samples), figsize=(4.2 * len(samples), 6.5), squeeze=False)
+    for column, (scope, times) in enumerate(samples.items()):
+        histogram = rtd_histogram(times)
+        top, bottom = axes[0, column], axes[1, column]
+        top.stairs(histogram.density, histogram.edges, color="k", label="simulation")
+        s = stats[scope]
+        if s.variance > 0:
+            t = np.linspace(histogram.edges[0], histogram.edges[-1], 400)
+            top.plot(t, tanks_in_series_density(t, s.mean, s.tanks_least_squares),
+                     label=f"tanks in series, N = {s.tanks_least_squares:.3g}")
+            top.plot(t, open_dispersion_density(t, s.mean, s.peclet_open_least_squares), "--",
+                     label=f"open–open dispersion, Pe = {s.peclet_open_least_squares:.3g}")
+        top.set_title(f"{label}: {scope} (n = {s.count}, t̄ = {s.mean:.3g} s)")
+        top.set_xlabel("t (s)")
+        top.set_ylabel("E(t) (1/s)")
+        top.legend(fontsize=7)
+        ordered, fraction = cumulative_distribution(times)
+        bottom.step(ordered, fraction, where="post", color="k")
+        bottom.set_xlabel("t (s)")
+        bottom.set_ylabel("F(t)")
+        bottom.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def plot_rtd_comparison(path: Path, runs: list[tuple[str, dict[str, np.ndarray]]],
+                        comparisons: dict[tuple[str, str], RTDComparison]) -> Path:
+    """E(t) of every run on common bins, one panel per scope (seed Fig. 8)."""
+    scopes = [scope for scope in runs[0][1] if all(scope in samples for _, samples in runs)]
+    fig, axes = plt.subplots(1, len(scopes), figsize=(4.5 * len(scopes), 3.8), squeeze=False)
+    for ax, scope in zip(axes[0], scopes):
+        edges = histogram_edges(np.concatenate([samples[scope] for _, samples in runs]))
+        for label, samples in runs:
+            histogram = rtd_histogram(samples[scope], edges)
+            comparison = comparisons.get((label, scope))
+            suffix = "" if comparison is None else f" (KS D = {comparison.ks_distance:.3f})"
+            ax.stairs(histogram.density, edges, label=label + suffix)
+        ax.set_title(scope)
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel("E(t) (1/s)")
+        ax.legend(fontsize=7)
+    return _save(fig, path)
+
+
+def plot_profiles(path: Path, profiles: list[tuple[str, ElementProfile]]) -> Path:
+    """Solid fraction, residence time, velocity magnitude and longitudinal velocity per element
+    for one run or a family of runs (seed Figs. 9, 10, 12–16)."""
+    positions = aligned_positions([profile.zones for _, profile in profiles])
+    tick_labels: dict[int, str] = {}
+    for (_, profile), where in zip(profiles, positions):
+        for position, name in zip(where, profile.zones.labels):
+            tick_labels.setdefault(int(position), name)
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
+    for ax, (quantity, axis_label) in zip(axes.flat, QUANTITIES.items()):
+        for (label, profile), where in zip(profiles, positions):
+            ax.plot(where, profile.values[quantity], "o-", label=label)
+        ax.set_ylabel(axis_label)
+        ax.grid(alpha=0.3)
+    first_zones, first_positions = profiles[0][1].zones, positions[0]
+    for ax in axes.flat:
+        for kind, position in zip(first_zones.kind, first_positions):
+            if kind != "conveying":  # shade the mixing elements as the paper's figures do
+                ax.axvspan(position - 0.5, position + 0.5, color="tab:orange" if kind == "kneading" else "tab:red",
+                           alpha=0.08, lw=0)
+    ticks = sorted(tick_labels)
+    for ax in axes[1]:
+        ax.set_xticks(ticks, [tick_labels[t] for t in ticks], rotation=90 if len(ticks) > 16 else 0)
+        ax.set_xlabel("element")
+    axes[0, 0].legend(fontsize=8)
+    return _save(fig, path)
+
+
+def plot_massflow_series(path: Path, label: str, record: MassFlowRecord, steady: SteadyState) -> Path:
+    fig, ax = plt.subplots(figsize=(9, 4))
+    for k, name in enumerate(record.sensor_names):
+        line, = ax.plot(record.time, record.flow[:, k], lw=0.5, alpha=0.35)
+        if len(steady.window_starts):
+            ax.step(np.append(steady.window_starts, steady.end_time),
+                    np.append(steady.window_means[:, k], steady.window_means[-1, k]),
+                    where="post", color=line.get_color(), lw=2, label=f"{name} ({steady.window:g} s means)")
+    if steady.reached:
+        ax.axvspan(steady.start_time, steady.end_time, color="tab:green", alpha=0.1, label="steady window")
+    ax.set_title(f"{label}: {'steady' if steady.reached else 'NOT steady'}", fontsize=10)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("mass flow (kg/h)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def plot_massflow_variants(path: Path, rows: list[tuple[str, tuple[str, ...], np.ndarray, np.ndarray]]) -> Path:
+    """Mean sensor flows over the steady window for each run (seed Fig. 18); bars: fluctuation."""
+    fig, ax = plt.subplots(figsize=(max(5.0, 1.2 * len(rows) + 2), 4))
+    most = max(len(names) for _, names, _, _ in rows)
+    for k in range(most):
+        offset = (k - (most - 1) / 2) * 0.12
+        xs = [i + offset for i, (_, names, _, _) in enumerate(rows) if k < len(names)]
+        means = [m[k] for _, names, m, _ in rows if k < len(names)]
+        spreads = [s[k] for _, names, _, s in rows if k < len(names)]
+        ax.errorbar(xs, means, yerr=spreads, fmt="o", capsize=3, label=f"sensor_{k + 1}")
+    ax.set_xticks(range(len(rows)), [label for label, *_ in rows], rotation=30, ha="right")
+    ax.set_ylabel("mean mass flow (kg/h)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def _bore_outline(ax: plt.Axes, centre_distance: float, bore_radius: float) -> None:
+    """Outline of the twin bore in mm: each circle without the arc inside the other one."""
+    half = centre_distance / 2
+    cut = np.arccos(half / bore_radius)  # angle where the circles meet, seen from each centre
+    for centre, start in ((-half, cut), (half, np.pi + cut)):
+        angle = np.linspace(start, start + 2 * np.pi - 2 * cut, 200)
+        ax.plot(1e3 * (centre + bore_radius * np.cos(angle)), 1e3 * bore_radius * np.sin(angle), "k", lw=1)
+        ax.plot(1e3 * centre, 0, "k+")
+
+
+def plot_cross_sections(path: Path, label: str, maps: dict[str, SolidFractionMap],
+                        centre_distance: float = CENTRE_DISTANCE, bore_radius: float = BORE_RADIUS) -> Path:
+    fig, axes = plt.subplots(1, len(maps), figsize=(6.2 * len(maps), 3.6), squeeze=False)
+    top = max(float(np.nanmax(m.solid_fraction)) for m in maps.values()) or 1.0
+    for ax, (kind, m) in zip(axes[0], maps.items()):
+        image = ax.imshow(m.solid_fraction.T, origin="lower", cmap="viridis", vmin=0, vmax=top,
+                          extent=1e3 * np.array([m.y_edges[0], m.y_edges[-1], m.z_edges[0], m.z_edges[-1]]))
+        _bore_outline(ax, centre_distance, bore_radius)
+        ax.set_title(f"{label}: {kind} ({m.frames} frames, {1e3 * m.axial_length:.4g} mm)", fontsize=9)
+        ax.set_xlabel("y (mm)")
+        ax.set_ylabel("z (mm)")
+        ax.set_aspect("equal")
+        fig.colorbar(image, ax=ax, label="solid fraction (-)", shrink=0.85)
+    return _save(fig, path)
+
+
+def plot_plane_flows(path: Path, label: str, flows: PlaneFlows, zones: Zones) -> Path:
+    """Net mass flow through the zone boundaries, counted from the dumps."""
+    fig, ax = plt.subplots(figsize=(8, 3.5))
+    ax.plot(1e3 * flows.x, flows.flow, "o-")
+    for kind, start, end in zip(zones.kind, zones.x_start, zones.x_end):
+        if kind != "conveying":
+            ax.axvspan(1e3 * start, 1e3 * end, color="tab:orange" if kind == "kneading" else "tab:red", alpha=0.1, lw=0)
+    ax.set_title(f"{label}: net mass flow through zone boundaries from dumps "
+                 f"({flows.frames} frames, {flows.duration:.3g} s)", fontsize=9)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("mass flow (kg/h)")
+    ax.grid(alpha=0.3)
+    return _save(fig, path)

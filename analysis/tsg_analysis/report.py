@@ -1,0 +1,352 @@
+"""The report: analyse one or several run directories, draw the figures, and hand the numbers to
+report_files.py for report.md, summary.json and the CSV tables.
+
+Every part is produced independently: a part whose input is missing or unusable is listed under
+"Not produced" with the reason, and the rest of the report is still written. Parts that average
+over time (RTDs, element profiles, cross-sections, mean sensor flows, flows from dumps) need the
+steady window decided from massflow.txt; `allow_transient` averages over the whole record instead
+and marks those parts as transient.
+"""
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import figures
+from .cross_section import DEFAULT_BIN_SIZE, SolidFractionAccumulator, SolidFractionMap
+from .dumps import ParticleFrame, find_dump_files, iter_frames, read_dump_file, step_from_name
+from .liggghts_log import parse_errors, parse_thermo, parse_warnings
+from .massflow import (STEADY_TOLERANCE, STEADY_WINDOW_S, PlaneFlowCounter, PlaneFlows, StepClock, SteadyState,
+                       decide_steady_state, mean_flows, step_clock)
+from .profiles import ElementProfile, average_element_statistics, element_profile, zone_residence_times
+from .report_files import write_outputs
+from .rtd import RTDComparison, RTDStatistics, compare_rtds, rtd_statistics
+from .run_files import (ELEMENT_TYPES, RTD_EXIT_REASONS, AnalysisInputError, MassFlowRecord, ResidenceRecords,
+                        Zones, read_element_statistics, read_massflow, read_residence, read_zones)
+from .snapshot import render_snapshot
+
+
+@dataclass(frozen=True)
+class Settings:
+    steady_window: float = STEADY_WINDOW_S
+    steady_tolerance: float = STEADY_TOLERANCE
+    allow_transient: bool = False
+    bin_size: float = DEFAULT_BIN_SIZE  # m, cross-section maps
+    screw_rpm: float | None = 600.0  # turns the screw meshes in the snapshot; None: draw them as built
+    particle_density: float | None = None  # kg/m^3, for dumps without a mass column
+    snapshot: bool = True
+
+
+@dataclass
+class RunAnalysis:
+    """What could be worked out for one run directory."""
+
+    label: str
+    run_dir: Path
+    out_dir: Path
+    zones: Zones | None = None
+    records: ResidenceRecords | None = None
+    massflow: MassFlowRecord | None = None
+    steady: SteadyState | None = None
+    clock: StepClock | None = None
+    window: tuple[float, float] | None = None  # s; (-inf, inf) when transient
+    transient: bool = False
+    rtd_samples: dict[str, np.ndarray] = field(default_factory=dict)
+    rtd_stats: dict[str, RTDStatistics] = field(default_factory=dict)
+    profile: ElementProfile | None = None
+    sensor_means: tuple[np.ndarray, np.ndarray] | None = None
+    maps: dict[str, SolidFractionMap] = field(default_factory=dict)
+    plane_flows: PlaneFlows | None = None
+    log_summary: dict | None = None
+    figures: dict[str, str] = field(default_factory=dict)  # part -> file name
+    notes: list[str] = field(default_factory=list)  # input issues that did not stop a part
+    missing: list[tuple[str, str]] = field(default_factory=list)  # (part, reason)
+
+
+def _attempt(run: RunAnalysis, part: str, action: Callable[[], None]) -> bool:
+    """Run one part; an unusable input becomes a 'not produced' entry instead of an exception."""
+    try:
+        action()
+    except AnalysisInputError as err:
+        run.missing.append((part, str(err)))
+        return False
+    return True
+
+
+def _slug(label: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", label).strip("_") or "run"
+
+
+def run_labels(run_dirs: list[Path]) -> list[str]:
+    """Directory names, or as many trailing path parts as it takes to tell them apart."""
+    parts = [Path(d).resolve().parts for d in run_dirs]
+    for depth in range(1, max(len(p) for p in parts) + 1):
+        labels = ["/".join(p[-depth:]) for p in parts]
+        if len(set(labels)) == len(labels):
+            return labels
+    return [str(d) for d in run_dirs]
+
+
+# ---- one run --------------------------------------------------------------------------------------
+
+def _read_log(run: RunAnalysis) -> None:
+    path = run.run_dir / "log.lammps"
+    if not path.is_file():
+        raise AnalysisInputError(f"{path}: file not found")
+    text = path.read_text(encoding="utf-8", errors="replace")
+    thermo = [block for block in parse_thermo(text) if block]
+    warnings = parse_warnings(text)
+    last = thermo[-1] if thermo else {}
+    run.log_summary = {
+        "last_step": int(last["Step"][-1]) if "Step" in last and len(last["Step"]) else None,
+        "particles": int(last["Atoms"][-1]) if "Atoms" in last and len(last["Atoms"]) else None,
+        "warnings": {w: warnings.count(w) for w in dict.fromkeys(warnings)},
+        "errors": parse_errors(text),
+    }
+
+
+def _decide_window(run: RunAnalysis, settings: Settings) -> None:
+    run.massflow = read_massflow(run.run_dir / "massflow.txt")
+    run.notes.extend(run.massflow.issues)
+    run.clock = step_clock(run.massflow)
+    run.steady = decide_steady_state(run.massflow, settings.steady_window, settings.steady_tolerance)
+    if run.steady.reached:
+        run.window = (run.steady.start_time, run.steady.end_time)
+    elif settings.allow_transient:
+        run.window, run.transient = (-math.inf, math.inf), True
+
+
+def _require_window(run: RunAnalysis) -> tuple[float, float]:
+    if run.window is not None:
+        return run.window
+    reason = "the run never reached steady state" if run.steady is not None else \
+        "steady state is unknown without a usable massflow.txt"
+    raise AnalysisInputError(f"no steady window: {reason} (--allow-transient averages over the whole record)")
+
+
+def _rtd_selection(run: RunAnalysis) -> np.ndarray:
+    """Particles that left through the outlet (or made a periodic pass) inside the window."""
+    low, high = _require_window(run)
+    records = run.records
+    return np.isin(records.exit_reason, RTD_EXIT_REASONS) & (records.exit_time > low) & (records.exit_time <= high)
+
+
+def _analyse_rtd(run: RunAnalysis) -> None:
+    selected = _rtd_selection(run)
+    samples = {"total": run.records.residence_time[selected]}
+    types = run.zones.types_present if run.zones is not None else [
+        t for t in ELEMENT_TYPES if np.any(run.records.time_by_type[t] > 0)]
+    samples.update({t: run.records.time_by_type[t][selected] for t in types})
+    run.rtd_stats["total"] = rtd_statistics(samples["total"], f"{run.label}: total RTD")
+    run.rtd_samples["total"] = samples.pop("total")
+    for scope, times in samples.items():
+        if _attempt(run, f"RTD {scope}", lambda: run.rtd_stats.__setitem__(
+                scope, rtd_statistics(times, f"{run.label}: {scope} RTD"))):
+            run.rtd_samples[scope] = times
+
+
+def _analyse_profile(run: RunAnalysis) -> None:
+    if run.zones is None:
+        raise AnalysisInputError("zones.txt is needed to name the elements")
+    low, _ = _require_window(run)
+    first_step = None if run.transient else run.clock.step(low)
+    averages, blocks, residence, records = None, 0, None, 0
+
+    def from_elements() -> None:
+        nonlocal averages, blocks
+        stats = read_element_statistics(run.run_dir / "elements.txt")
+        run.notes.extend(stats.issues)
+        averages, blocks = average_element_statistics(stats, run.zones, first_step)
+
+    def from_residence() -> None:
+        nonlocal residence, records
+        if run.records is None:
+            raise AnalysisInputError("no usable residence.txt")
+        selected = _rtd_selection(run)
+        residence, records = zone_residence_times(run.records, run.zones, selected), int(selected.sum())
+
+    produced = [_attempt(run, "element profiles: solid fraction and velocities", from_elements),
+                _attempt(run, "element profiles: residence time per element", from_residence)]
+    if any(produced):
+        run.profile = element_profile(run.zones, averages, blocks, residence, records)
+
+
+def _frames_in_window(run: RunAnalysis, paths: list[Path], issues: list[str]) -> Iterator[tuple[ParticleFrame, float]]:
+    """Dump frames inside the window with their times (VTK files are skipped by name, unread)."""
+    low, high = run.window
+    for path in paths:
+        if path.suffix == ".vtk" and not run.transient and not low <= run.clock.time(step_from_name(path)) <= high:
+            continue
+        for frame in iter_frames([path], issues):
+            time = float(run.clock.time(frame.step)) if run.clock is not None else float(frame.step)
+            if run.transient or low <= time <= high:
+                yield frame, time
+
+
+def _analyse_dumps(run: RunAnalysis, settings: Settings) -> None:
+    paths, notes = find_dump_files(run.run_dir)
+    run.notes.extend(notes)
+    if not paths:
+        parts = ("cross-section maps", "mass flow through zone boundaries") + (("snapshot",) if settings.snapshot else ())
+        for part in parts:
+            run.missing.append((part, f"no dumps/particles_*.txt or dumps/particles_*.vtk in {run.run_dir}"))
+        return
+    if settings.snapshot:
+        _attempt(run, "snapshot", lambda: _snapshot(run, paths[-1], settings))
+
+    def averaged_parts() -> None:
+        _require_window(run)
+        if run.zones is None:
+            raise AnalysisInputError("zones.txt is needed to know where the element types are")
+        accumulator = SolidFractionAccumulator({t: run.zones.ranges(t) for t in run.zones.types_present},
+                                               settings.bin_size)
+        planes = np.append(run.zones.x_start, run.zones.x_end[-1])
+        counter: PlaneFlowCounter | None = None
+        counter_problem = None
+        issues: list[str] = []
+        for frame, time in _frames_in_window(run, paths, issues):
+            accumulator.add(frame)
+            if counter is None and counter_problem is None:
+                counter_problem = _plane_counter_problem(run, frame, settings.particle_density)
+                if counter_problem is None:
+                    counter = PlaneFlowCounter(planes, _x_period(frame), settings.particle_density)
+            if counter is not None:
+                counter.add(frame, time)
+        run.notes.extend(issues)
+        if accumulator.frames == 0:
+            raise AnalysisInputError(f"none of the {len(paths)} dump files has a frame inside the averaging window")
+        run.maps = accumulator.maps()
+        if counter is None:
+            run.missing.append(("mass flow through zone boundaries", counter_problem))
+        else:
+            _attempt(run, "mass flow through zone boundaries", lambda: setattr(run, "plane_flows", counter.result()))
+
+    if not _attempt(run, "cross-section maps", averaged_parts):
+        run.missing.append(("mass flow through zone boundaries", run.missing[-1][1]))
+
+
+def _plane_counter_problem(run: RunAnalysis, frame: ParticleFrame, density: float | None) -> str | None:
+    if run.clock is None:
+        return "frame times unknown without massflow.txt"
+    if "mass" not in frame.columns and density is None:
+        return "dumps carry no 'mass' column: give the particle density (--density)"
+    if frame.box is None and run.records is not None and np.any(run.records.exit_reason == "pass"):
+        return "periodic run with VTK dumps: they carry no box, so wraps cannot be told from jumps (use text dumps)"
+    if frame.box is None and run.records is None:
+        return "VTK dumps carry no box and residence.txt is missing: cannot tell whether the domain is periodic"
+    return None
+
+
+def _x_period(frame: ParticleFrame) -> float | None:
+    if frame.box is not None and frame.box.periodic[0]:
+        return float(frame.box.hi[0] - frame.box.lo[0])
+    return None
+
+
+def _snapshot(run: RunAnalysis, last_dump: Path, settings: Settings) -> None:
+    frames, issues = read_dump_file(last_dump)
+    run.notes.extend(issues)
+    if not frames:
+        raise AnalysisInputError(f"{last_dump}: no complete frame")
+    frame = frames[-1]
+    time = float(run.clock.time(frame.step)) if run.clock is not None else None
+    meshes = sorted((run.run_dir / "meshes").glob("*.stl"))
+    if not meshes:
+        run.notes.append("no meshes/*.stl: snapshot shows the particles only")
+    name = f"{_slug(run.label)}_snapshot.png"
+    render_snapshot(frame, run.out_dir / name, meshes, time, settings.screw_rpm)
+    run.figures["snapshot"] = name
+
+
+def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) -> RunAnalysis:
+    run = RunAnalysis(label, Path(run_dir), out_dir)
+    if not run.run_dir.is_dir():
+        run.missing.append(("everything", f"{run.run_dir}: not a directory"))
+        return run
+    slug = _slug(label)
+    _attempt(run, "run log", lambda: _read_log(run))
+    _attempt(run, "zones", lambda: setattr(run, "zones", read_zones(run.run_dir / "zones.txt")))
+    if _attempt(run, "steady state", lambda: _decide_window(run, settings)):
+        run.figures["massflow"] = f"{slug}_massflow.png"
+        figures.plot_massflow_series(out_dir / run.figures["massflow"], label, run.massflow, run.steady)
+        _attempt(run, "mean sensor flows", lambda: setattr(
+            run, "sensor_means", mean_flows(run.massflow, *_require_window(run))))
+    elif settings.allow_transient:
+        run.window, run.transient = (-math.inf, math.inf), True
+    if _attempt(run, "residence records", lambda: setattr(run, "records", read_residence(run.run_dir / "residence.txt"))):
+        run.notes.extend(run.records.issues)
+        if _attempt(run, "RTD", lambda: _analyse_rtd(run)):
+            run.figures["rtd"] = f"{slug}_rtd.png"
+            figures.plot_rtd(out_dir / run.figures["rtd"], label, run.rtd_samples, run.rtd_stats)
+    _attempt(run, "element profiles", lambda: _analyse_profile(run))
+    _attempt(run, "dump files", lambda: _analyse_dumps(run, settings))
+    if run.maps:
+        run.figures["cross_sections"] = f"{slug}_cross_sections.png"
+        figures.plot_cross_sections(out_dir / run.figures["cross_sections"], label, run.maps)
+    if run.plane_flows is not None:
+        run.figures["plane_flows"] = f"{slug}_plane_flows.png"
+        figures.plot_plane_flows(out_dir / run.figures["plane_flows"], label, run.plane_flows, run.zones)
+    return run
+
+
+# ---- several runs ---------------------------------------------------------------------------------
+
+@dataclass
+class Report:
+    runs: list[RunAnalysis]
+    comparisons: list[tuple[str, str, RTDComparison]]  # (reference, run, comparison)
+    figures: dict[str, str]
+    missing: list[tuple[str, str]]  # report-wide (part, reason)
+    settings: Settings
+
+    @property
+    def not_produced(self) -> list[tuple[str, str, str]]:
+        entries = [(run.label, part, reason) for run in self.runs for part, reason in run.missing]
+        return entries + [("all runs", part, reason) for part, reason in self.missing]
+
+
+def build_report(run_dirs: list[Path], out_dir: Path, labels: list[str] | None = None,
+                 settings: Settings = Settings()) -> Report:
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    labels = labels or run_labels(run_dirs)
+    if len(labels) != len(run_dirs) or len(set(labels)) != len(labels):
+        raise ValueError("give one distinct label per run directory")
+    runs = [analyse_run(Path(d), label, out_dir, settings) for d, label in zip(run_dirs, labels)]
+    report = Report(runs, [], {}, [], settings)
+
+    with_profiles = [(run.label, run.profile) for run in runs if run.profile is not None]
+    if with_profiles:
+        report.figures["profiles"] = "profiles.png"
+        figures.plot_profiles(out_dir / "profiles.png", with_profiles)
+    else:
+        report.missing.append(("element profiles figure", "no run has element profiles"))
+    with_flows = [(run.label, run.massflow.sensor_names, *run.sensor_means) for run in runs
+                  if run.sensor_means is not None]
+    if with_flows:
+        report.figures["massflow_variants"] = "massflow_variants.png"
+        figures.plot_massflow_variants(out_dir / "massflow_variants.png", with_flows)
+    else:
+        report.missing.append(("mass flow across runs", "no run has mean sensor flows"))
+    with_rtd = [run for run in runs if run.rtd_samples]
+    if len(runs) > 1:
+        if len(with_rtd) > 1:
+            reference = with_rtd[0]
+            for run in with_rtd[1:]:
+                for scope in reference.rtd_samples:
+                    if scope in run.rtd_samples:
+                        report.comparisons.append((reference.label, run.label, compare_rtds(
+                            reference.rtd_samples[scope], run.rtd_samples[scope], scope)))
+            report.figures["rtd_comparison"] = "rtd_comparison.png"
+            figures.plot_rtd_comparison(out_dir / "rtd_comparison.png",
+                                        [(run.label, run.rtd_samples) for run in with_rtd],
+                                        {(label, c.scope): c for _, label, c in report.comparisons})
+        else:
+            report.missing.append(("RTD comparison", "fewer than two runs have an RTD"))
+    write_outputs(report, out_dir)
+    return report
