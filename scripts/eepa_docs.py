@@ -77,8 +77,10 @@ def comparison(workdir: Path) -> str:
     def both(name: str, expected: float, ours_include: str, stock_include: str, speed: float) -> None:
         ours, _ = impact(workdir / f"{name}-eepa", ours_include, speed)
         try:
-            stock, _ = impact(workdir / f"{name}-edinburgh", stock_include, speed, timeout=STOCK_TIMEOUT)
-            stock_text = f"{stock:.5f}"
+            stock, run = impact(workdir / f"{name}-edinburgh", stock_include, speed, timeout=STOCK_TIMEOUT,
+                                require_separation=False)
+            separated = run.thermo[-1]["gap"][-1] > 0
+            stock_text = f"{stock:.5f}" + ("" if separated else " (still touching after 3 contact times)")
         except subprocess.TimeoutExpired:
             stock_text = f"hangs (killed after {STOCK_TIMEOUT} s; ours takes < 1 s)"
         except (LmpFailed, AssertionError) as failure:

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "error.h"
 #include "global_properties.h"
@@ -50,6 +51,11 @@ public:
     registry.connect(kTensionExponent, tension_exponent_, caller);
     registry.connect(kTangentialMultiplier, tangential_multiplier_, caller);
     validate_all(registry.getLAMMPS(), registry.max_type());
+    const int ntypes = registry.max_type();
+    plastic_root_.assign(ntypes + 1, std::vector<double>(ntypes + 1, 0.0));
+    for (int i = 1; i <= ntypes; ++i)
+      for (int j = 1; j <= ntypes; ++j)
+        plastic_root_[i][j] = tsg::eepa::plastic_root(plasticity_ratio_[i][j], slope_exponent_[i][j]);
   }
 
   // Law parameters of one contact: Yeff = E* of the type pair, reff = R*.
@@ -61,6 +67,9 @@ public:
             tension_exponent_[itype][jtype], pull_off_force_[itype][jtype],
             surface_energy_[itype][jtype], reff};
   }
+
+  // λp^(1/n) of the type pair, computed once at set-up (tsg::eepa::plastic_root)
+  double plastic_root(int itype, int jtype) const { return plastic_root_[itype][jtype]; }
 
   double tangential_multiplier(int itype, int jtype) const { return tangential_multiplier_[itype][jtype]; }
 
@@ -120,6 +129,7 @@ private:
   double **slope_exponent_ = nullptr;
   double **tension_exponent_ = nullptr;
   double **tangential_multiplier_ = nullptr;
+  std::vector<std::vector<double>> plastic_root_;  // λp^(1/n) per type pair, cached
 };
 
 }  // namespace tsg

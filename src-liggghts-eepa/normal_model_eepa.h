@@ -66,7 +66,8 @@ public:
 
     double *history = sidata.contact_history;
     const tsg::eepa::History previous{history[max_overlap_offset_], history[plastic_overlap_offset_]};
-    const tsg::eepa::State state = tsg::eepa::evaluate(law, previous, sidata.deltan);
+    const tsg::eepa::State state =
+        tsg::eepa::evaluate(law, previous, sidata.deltan, eepa_properties_.plastic_root(itype, jtype));
     if (sidata.computeflag && sidata.shearupdate) {
       history[max_overlap_offset_] = state.history.max_overlap;
       history[plastic_overlap_offset_] = state.history.plastic_overlap;
@@ -74,15 +75,16 @@ public:
 
     // dashpot with the active branch's tangent stiffness; LIGGGHTS' vn is -dδ/dt
     const double beta = betaeff_[itype][jtype];
-    const double damping = tsg::eepa::damping_force(beta, state.stiffness, sidata.meff, -sidata.vn);
+    const double gamman = tsg::eepa::damping_coefficient(beta, state.stiffness, sidata.meff);
+    const double damping = -gamman * sidata.vn;
     const double normal_force = state.force + damping;
 
     // Tangential spring: ζ_tm times the normal tangent stiffness, Hertz-Mindlin dashpot on it.
-    const double kt = eepa_properties_.tangential_multiplier(itype, jtype) * state.stiffness;
-    constexpr double sqrt_five_sixths = 0.91287092917527685576;
+    const double multiplier = eepa_properties_.tangential_multiplier(itype, jtype);
+    const double kt = multiplier * state.stiffness;
     sidata.kt = kt / force->nktv2p;
-    sidata.gammat = tangential_damping_ ? -2. * sqrt_five_sixths * beta * std::sqrt(kt * sidata.meff) : 0.0;
-    sidata.gamman = -2. * sqrt_five_sixths * beta * std::sqrt(state.stiffness * sidata.meff);
+    sidata.gammat = tangential_damping_ ? std::sqrt(multiplier) * gamman : 0.0;  // same β on k_t
+    sidata.gamman = gamman;
     // Friction and CDT rolling resistance see the adhesion-corrected load (Thakur 2014):
     // tangential history uses |Fn|, CDT rolling uses kn·δ.
     sidata.Fn = state.coulomb_load + damping;

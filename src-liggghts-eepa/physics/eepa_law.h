@@ -62,6 +62,9 @@ constexpr double kMaxPullOffFraction = 0.5;
 // x^e; the Hertzian exponent takes the sqrt path, several times faster than std::pow.
 inline double power(double x, double e) { return e == 1.5 ? x * std::sqrt(x) : std::pow(x, e); }
 
+// x^(1/e); the Hertzian exponent takes the cube-root path (x^(2/3) = cbrt(x^2)).
+inline double root(double x, double e) { return e == 1.5 ? std::cbrt(x * x) : std::pow(x, 1 / e); }
+
 // Shortest decimal-ish rendering for error messages ("1.2", "-0.001", "2.5e-9", "nan").
 inline std::string format_number(double x) {
   if (std::isnan(x)) return "nan";
@@ -106,10 +109,12 @@ inline AdhesiveBranch adhesive_branch(const Parameters& p, double k2, double pla
 }
 
 // Adhesive branch of a contact whose largest overlap was max_overlap.
-inline AdhesiveBranch adhesive_branch(const Parameters& p, double k2, double max_overlap) {
+// plastic_root = λp^(1/n): δp/δmax of the virgin unloading line.
+inline AdhesiveBranch adhesive_branch_after(const Parameters& p, double k2, double max_overlap,
+                                            double plastic_root) {
   const double plastic_n = p.plasticity_ratio * power(max_overlap, p.slope_exponent);
   if (!(p.surface_energy > 0 && plastic_n > 0)) return {0, plastic_n};
-  const double plastic = std::pow(p.plasticity_ratio, 1 / p.slope_exponent) * max_overlap;
+  const double plastic = plastic_root * max_overlap;
   return adhesive_branch(p, k2, plastic, plastic_n);
 }
 
@@ -142,6 +147,11 @@ inline void validate(const Parameters& p) {
                   p.effective_radius, "(0, inf)");
 }
 
+// λp^(1/n): the plastic overlap per unit overlap of an unloading line leaving the k1 branch.
+inline double plastic_root(double plasticity_ratio, double slope_exponent) {
+  return std::pow(plasticity_ratio, 1 / slope_exponent);
+}
+
 // Pull-off of a contact whose largest overlap was max_overlap (Thakur 2014; Morrissey 2013):
 //   δp^n   = λp δmax^n                     plastic overlap of the virgin unloading line
 //   a      = sqrt(2 R* δp)                 contact radius at δp (small-overlap geometric circle)
@@ -150,8 +160,9 @@ inline void validate(const Parameters& p) {
 // Without surface energy (or plastic overlap) f_min = 0 and δ_min = δp.
 inline PullOff pull_off(const Parameters& p, double max_overlap) {
   const double k2 = p.k1 / (1 - p.plasticity_ratio);
-  const detail::AdhesiveBranch branch = detail::adhesive_branch(p, k2, max_overlap);
-  return {branch.f_min, std::pow(branch.min_n, 1 / p.slope_exponent)};
+  const detail::AdhesiveBranch branch =
+      detail::adhesive_branch_after(p, k2, max_overlap, plastic_root(p.plasticity_ratio, p.slope_exponent));
+  return {branch.f_min, detail::root(branch.min_n, p.slope_exponent)};
 }
 
 // One evaluation of the law at overlap δ, given the history of the previous evaluation.
@@ -166,7 +177,10 @@ inline PullOff pull_off(const Parameters& p, double max_overlap) {
 // branch's own slope is negative; n k2 δ^(n-1) is what a reload meets).
 // coulomb_load: |f - f0 + f_adh(δ)| (Thakur 2014), zero on the adhesive branch.
 // δ <= 0 (or NaN): Separated, all zero, history reset.
-inline State evaluate(const Parameters& p, const History& previous, double overlap) {
+// plastic_root = plastic_root(λp, n), passed in so that a caller evaluating many contacts of one
+// type pair computes the root once (the overload below computes it per call).
+inline State evaluate(const Parameters& p, const History& previous, double overlap,
+                      double plastic_root) {
   if (!(overlap > 0)) return {0, 0, 0, Branch::Separated, History{}};
   const double n = p.slope_exponent;
   const double f0 = p.pull_off_force;
@@ -177,7 +191,7 @@ inline State evaluate(const Parameters& p, const History& previous, double overl
   const double plastic_n = detail::power(previous.plastic_overlap, n);
 
   if (lambda * overlap_n >= plastic_n) {
-    const double plastic_per_overlap = std::pow(lambda, 1 / n);  // δp/δ of a line leaving k1
+    const double plastic_per_overlap = plastic_root;  // δp/δ of a line leaving k1
     const double max_overlap = std::max(previous.max_overlap, overlap);
     const History history{max_overlap, plastic_per_overlap * overlap};
     const detail::AdhesiveBranch adhesive = detail::adhesive_branch(
@@ -189,10 +203,14 @@ inline State evaluate(const Parameters& p, const History& previous, double overl
 
   const double line = k2 * (overlap_n - plastic_n);
   const double pull =
-      detail::adhesion(p, detail::adhesive_branch(p, k2, previous.max_overlap), overlap_n);
+      detail::adhesion(p, detail::adhesive_branch_after(p, k2, previous.max_overlap, plastic_root), overlap_n);
   if (line >= -pull) return {f0 + line, k2 * slope, line + pull, Branch::Unloading, previous};
-  const History history{previous.max_overlap, std::pow(overlap_n + pull / k2, 1 / n)};
+  const History history{previous.max_overlap, detail::root(overlap_n + pull / k2, n)};
   return {f0 - pull, k2 * slope, 0, Branch::Adhesive, history};
+}
+
+inline State evaluate(const Parameters& p, const History& previous, double overlap) {
+  return evaluate(p, previous, overlap, plastic_root(p.plasticity_ratio, p.slope_exponent));
 }
 
 // Undamped, non-adhesive restitution of a two-body impact (docs/eepa-law.md, "Restitution"):
@@ -220,10 +238,15 @@ inline double damping_ratio_from_restitution(double e) {
 // Hertz-Mindlin dashpot with the branch tangent stiffness S (State::stiffness):
 //   F_d = -2 sqrt(5/6) β sqrt(S m*) v_n
 // normal_velocity v_n = dδ/dt, positive while approaching (LIGGGHTS' sidata.vn is -dδ/dt).
+// The coefficient −2 sqrt(5/6) β sqrt(S m*) (>= 0) is damping_coefficient, F_d = coefficient · v_n.
+inline double damping_coefficient(double beta, double stiffness, double reduced_mass) {
+  constexpr double sqrt_five_sixths = 0.91287092917527685576;
+  return -2 * sqrt_five_sixths * beta * std::sqrt(stiffness * reduced_mass);
+}
+
 inline double damping_force(double beta, double stiffness, double reduced_mass,
                             double normal_velocity) {
-  constexpr double sqrt_five_sixths = 0.91287092917527685576;
-  return -2 * sqrt_five_sixths * beta * std::sqrt(stiffness * reduced_mass) * normal_velocity;
+  return damping_coefficient(beta, stiffness, reduced_mass) * normal_velocity;
 }
 
 }  // namespace tsg::eepa
