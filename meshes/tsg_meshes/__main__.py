@@ -1,0 +1,55 @@
+"""Command line: python -m tsg_meshes build <config> <outdir> [--tolerance M] | build-all <outdir> | render <imgdir>."""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from .build import (DEFAULT_TOLERANCE, MAX_TOLERANCE, MeshQualityError, build_all, generate, resolve_config,
+                    write_geometry)
+from .spec import SpecError, read_spec
+
+
+def tolerance(text: str) -> float:
+    value = float(text)
+    if not 0 < value <= MAX_TOLERANCE:
+        raise argparse.ArgumentTypeError(f"{text} m is outside (0, {MAX_TOLERANCE:g}] m")
+    return value
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m tsg_meshes", description=__doc__)
+    commands = parser.add_subparsers(dest="command", required=True)
+    build = commands.add_parser("build", help="build one configuration into <outdir>")
+    build.add_argument("config", help="spec file, or the name of a shipped config (meshes/configs/<name>.spec)")
+    build.add_argument("outdir", type=Path)
+    build.add_argument("--tolerance", type=tolerance, default=DEFAULT_TOLERANCE,
+                       help=f"largest chordal deviation from the exact surface, metres (default {DEFAULT_TOLERANCE:g})")
+    everything = commands.add_parser("build-all", help="build every shipped configuration into <outdir>/<name>-<tol>um/")
+    everything.add_argument("outdir", type=Path)
+    render = commands.add_parser("render", help="PNG renders of element types and assembled screws")
+    render.add_argument("imgdir", type=Path)
+    args = parser.parse_args(argv)
+
+    started = time.perf_counter()
+    try:
+        if args.command == "build":
+            geometry = generate(read_spec(resolve_config(args.config)), args.tolerance)
+            written = write_geometry(geometry, args.outdir)
+        elif args.command == "build-all":
+            written = build_all(args.outdir)
+        else:
+            from .render import render_all  # pyvista is only needed here
+            written = render_all(args.imgdir)
+    except (SpecError, FileNotFoundError, MeshQualityError) as error:
+        print(f"tsg_meshes: error: {error}", file=sys.stderr)
+        return 2
+    for path in written:
+        print(path)
+    print(f"done in {time.perf_counter() - started:.1f} s", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
