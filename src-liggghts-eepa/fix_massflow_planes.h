@@ -1,0 +1,93 @@
+// fix massflow/planes — signed mass flow rate through axial planes (mass-flow sensors), kg/h.
+//
+//   fix ID group massflow/planes planes K X1 ... XK window N [file FILE] [append yes|no]
+//
+// Every step each particle's unwrapped axial coordinate is compared with the previous step's; each
+// crossing of a plane x = Xk (on a periodic x axis: of any image Xk + jL) adds the particle's mass,
+// + towards +x, - towards -x (physics/plane_crossing.h). Windows are N steps long and end on steps
+// that are multiples of N; at the end of each window the rate = net mass / window duration, in kg/h,
+// becomes the fix's global vector (f_ID[k], sensor k; 0 until the first window ends) and is written
+// to FILE ("# tsg-dem mass flow v1", "# columns: step time sensor_1 ... sensor_K").
+// Particles inserted during a step start counting at the next step; moves between runs (set,
+// displace_atoms) are not counted. Restart-safe (per-particle positions, the open window).
+#ifdef FIX_CLASS
+FixStyle(massflow/planes,FixMassflowPlanes)
+#else
+#ifndef TSG_FIX_MASSFLOW_PLANES_H
+#define TSG_FIX_MASSFLOW_PLANES_H
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+class FixMassflowPlanes : public Fix {
+public:
+  FixMassflowPlanes(class LAMMPS *, int, char **);
+  ~FixMassflowPlanes();
+  int setmask();
+  void init();
+  void setup(int);
+  void end_of_step();
+  void post_run();
+  double compute_vector(int);
+
+  void grow_arrays(int);
+  void copy_arrays(int, int, int);
+  void set_arrays(int);
+  int pack_exchange(int, double *);
+  int unpack_exchange(int, double *);
+  int pack_restart(int, double *);
+  void unpack_restart(int, int);
+  int size_restart(int);
+  int maxsize_restart();
+  void write_restart(FILE *);
+  void restart(char *);
+  double memory_usage();
+
+private:
+  double unwrapped_x(int i, double near) const;
+  double period() const;
+  void consolidate();
+  double now() const;
+
+  std::vector<double> planes_;
+  int window_;
+  std::string path_;
+  bool append_;
+  FILE *fp_;
+  void place(int i, double u);
+
+  // per atom, the only data read every step: the interval [lo, hi) between plane images it lies in,
+  // shrunk by a rounding margin on a periodic axis, inside which no crossing can happen
+  double **bounds_;
+  // per atom: 1 once seen, then for each plane k the side it is on, floor((u - X_k)/L) on a periodic
+  // axis or [u >= X_k] on an open one; the net crossings of a step are the change of these numbers
+  double **side_;
+  int nside_;
+  // between neighbour-list builds only particles within one skin of a plane image (see
+  // fix residence/time)
+  struct Near {
+    int i;          // local index (valid until the next build)
+    double lo, hi;  // copy of its bounds, so that the loop reads only x (and image) per particle
+  };
+  std::vector<Near> near_;
+  bool near_usable_;
+  double reach_;
+  void count_one(int i, double length);
+  std::vector<double> mass_;    // net mass through each plane in the open window, this rank, kg
+  double window_time_;          // duration of the open window so far, s
+  std::vector<double> rate_;    // last completed window, kg/h
+  // the clock across a restart (LIGGGHTS 3.8 restarts its time at 0): see fix residence/time
+  double clock_offset_;
+  bool clock_from_restart_;
+  double restart_time_, restart_step_;
+};
+
+}  // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,739 @@
+// fix residence/time: see fix_residence_time.h and docs/measurement.md.
+//
+// Per particle the state of physics/residence.h lives in a per-atom array that migrates with the
+// particle (pack/unpack_exchange) and goes into restart files (pack/unpack_restart).
+//
+// Nothing may vanish without a record. Every rank keeps a "shadow" copy of the state of each inside
+// particle it owns, refreshed whenever that state changes (a zone-edge crossing: rare), keyed by
+// particle id. On every reneighbouring step (the only steps on which particles are deleted, lost or
+// migrated) and at every run set-up the shadow is reconciled with the particles actually owned:
+//   - a shadow entry whose particle is no longer owned and did not leave through pack_exchange was
+//     deleted (delete_atoms, fix massflow/mesh ... delete_atoms yes, ...): record "deleted";
+//   - a particle packed for another rank is marked "in transit"; if, over all ranks, fewer particles
+//     arrived than were packed, the ids in transit are matched against the particles owned anywhere,
+//     and those owned nowhere were lost (left a non-periodic box with thermo_modify lost ignore):
+//     record "lost", written by the lowest rank holding it in transit.
+// Records are buffered per rank and gathered to rank 0 every `flush` steps, at restart steps and
+// at the end of every run; rank 0 sorts them by (exit time, id) and appends them to the file.
+#include "fix_residence_time.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <unordered_set>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "group.h"
+#include "memory.h"
+#include "neighbor.h"
+#include "output.h"
+#include "update.h"
+
+#include "axial_partition.h"
+
+using namespace LAMMPS_NS;
+namespace res = tsg::residence;
+using res::Slot;
+
+namespace {
+
+bool parse_double(const char *text, double &value) {
+  if (!text || !*text) return false;
+  char *end = nullptr;
+  errno = 0;
+  value = std::strtod(text, &end);
+  return *end == '\0' && errno != ERANGE && std::isfinite(value);
+}
+
+std::string number(double value) {
+  char buffer[32];
+  snprintf(buffer, sizeof buffer, "%.10g", value);
+  return buffer;
+}
+
+constexpr int kRecordHead = 8;  // id entry exit residence reason type_time[3]
+
+}  // namespace
+
+// Reads and parses a zones file: rank 0 reads it, every rank parses the same text, so a bad file
+// stops all ranks with the same message.
+std::vector<tsg::zones::Zone> tsg_read_zones(LAMMPS *lmp, const char *path, const std::string &who)
+{
+  int me = 0;
+  MPI_Comm_rank(lmp->world, &me);
+  std::string text;
+  long size = 0;
+  if (me == 0) {
+    FILE *fp = fopen(path, "rb");
+    if (!fp) {
+      size = -1;
+    } else {
+      char buffer[4096];
+      size_t n;
+      while ((n = fread(buffer, 1, sizeof buffer, fp)) > 0) text.append(buffer, n);
+      fclose(fp);
+      size = static_cast<long>(text.size());
+    }
+  }
+  MPI_Bcast(&size, 1, MPI_LONG, 0, lmp->world);
+  if (size < 0)
+    lmp->error->all(FLERR, (who + ": cannot open zones file '" + path + "' (missing or not readable)").c_str());
+  text.resize(static_cast<size_t>(size));
+  if (size > 0) MPI_Bcast(&text[0], static_cast<int>(size), MPI_CHAR, 0, lmp->world);
+  try {
+    return tsg::zones::parse_zones_text(text, std::string("zones file '") + path + "'");
+  } catch (const std::invalid_argument &e) {
+    lmp->error->all(FLERR, (who + ": " + e.what()).c_str());
+  }
+  return {};
+}
+
+FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
+  : Fix(lmp, narg, arg), plane_inlet_(0), plane_outlet_(0), plane_reference_(0),
+    analysis_lo_(-INFINITY), analysis_hi_(INFINITY), has_analysis_(false), existing_given_(false),
+    write_inside_(false), append_(false), flush_every_(1000), flush_given_(false), first_setup_done_(false),
+    nvalues_(0), state_(nullptr), bounds_(nullptr), inside_(nullptr), near_usable_(false), reach_(0), fp_(nullptr), transit_entries_(0), packs_(0), arrivals_(0),
+    cache_valid_(false), inside_now_(0), clock_offset_(0), clock_from_restart_(false), restart_time_(0),
+    restart_step_(0)
+{
+  const std::string who = std::string("fix ") + id + " residence/time";
+  const char *zones_file = nullptr;
+  const char *records_file = nullptr;
+  bool has_periodic = false;
+  for (int iarg = 3; iarg < narg;) {
+    const std::string key = arg[iarg];
+    auto need = [&](int n) {
+      if (iarg + n >= narg)
+        error->all(FLERR, (who + ": keyword '" + key + "' needs " + std::to_string(n) + " value(s)").c_str());
+    };
+    auto real = [&](int k) {
+      double value = 0;
+      if (!parse_double(arg[iarg + k], value))
+        error->all(FLERR, (who + ": " + key + " value '" + arg[iarg + k] + "' is not a finite number (m)").c_str());
+      return value;
+    };
+    if (key == "zones") {
+      need(1); zones_file = arg[iarg + 1]; iarg += 2;
+    } else if (key == "records") {
+      need(1); records_file = arg[iarg + 1]; iarg += 2;
+    } else if (key == "inlet") {
+      need(1); plane_inlet_ = real(1); settings_.has_inlet = true; settings_.inlet = plane_inlet_; iarg += 2;
+    } else if (key == "outlet") {
+      need(1); plane_outlet_ = real(1); settings_.has_outlet = true; settings_.outlet = plane_outlet_; iarg += 2;
+    } else if (key == "periodic") {
+      need(1); plane_reference_ = real(1); has_periodic = true; iarg += 2;
+    } else if (key == "analysis") {
+      need(2); analysis_lo_ = real(1); analysis_hi_ = real(2); has_analysis_ = true;
+      if (!(analysis_hi_ > analysis_lo_))
+        error->all(FLERR, (who + ": analysis XLO XHI = " + arg[iarg + 1] + " " + arg[iarg + 2] +
+                           " needs XLO < XHI").c_str());
+      iarg += 3;
+    } else if (key == "existing") {
+      need(1);
+      if (strcmp(arg[iarg + 1], "tag") == 0) settings_.tag_existing = true;
+      else if (strcmp(arg[iarg + 1], "wait") == 0) settings_.tag_existing = false;
+      else error->all(FLERR, (who + ": existing = '" + arg[iarg + 1] + "' must be 'tag' or 'wait'").c_str());
+      existing_given_ = true;
+      iarg += 2;
+    } else if (key == "inside") {
+      need(1); write_inside_ = yes_no("inside", arg[iarg + 1]); iarg += 2;
+    } else if (key == "append") {
+      need(1); append_ = yes_no("append", arg[iarg + 1]); iarg += 2;
+    } else if (key == "flush") {
+      need(1);
+      char *end = nullptr;
+      const long n = strtol(arg[iarg + 1], &end, 10);
+      if (*end != '\0' || n < 1 || n > 2000000000L)
+        error->all(FLERR, (who + ": flush = '" + arg[iarg + 1] + "' must be a positive integer (steps)").c_str());
+      flush_every_ = static_cast<int>(n);
+      flush_given_ = true;
+      iarg += 2;
+    } else {
+      error->all(FLERR, (who + ": unknown keyword '" + key +
+                         "' (allowed: zones, records, inlet, outlet, periodic, analysis, existing, inside, flush, append)").c_str());
+    }
+  }
+  if (!zones_file) error->all(FLERR, (who + ": missing 'zones FILE' (the zones file of the mesh generator)").c_str());
+  if (!records_file) error->all(FLERR, (who + ": missing 'records FILE' (where the records are written)").c_str());
+  settings_.periodic = has_periodic;
+  if (has_periodic && (settings_.has_inlet || settings_.has_outlet))
+    error->all(FLERR, (who + ": 'periodic' cannot be combined with 'inlet' or 'outlet' (a pass runs from one "
+                       "crossing of the reference plane to the next)").c_str());
+  if (settings_.has_inlet && settings_.has_outlet && !(plane_outlet_ > plane_inlet_))
+    error->all(FLERR, (who + ": outlet " + number(plane_outlet_) + " must lie downstream (+x) of inlet " +
+                       number(plane_inlet_)).c_str());
+  if (!existing_given_) settings_.tag_existing = !has_periodic;
+
+  zones_path_ = zones_file;
+  records_path_ = records_file;
+  zones_ = tsg_read_zones(lmp, zones_file, who);
+  nvalues_ = Slot::zone0 + static_cast<int>(zones_.size());
+
+  nevery = 1;
+  vector_flag = 1;
+  size_vector = 9;
+  global_freq = 1;
+  extvector = 0;
+  restart_global = 1;
+  restart_peratom = 1;
+  create_attribute = 1;
+  for (double &c : local_) c = 0;
+  for (double &c : total_) c = 0;
+
+  grow_arrays(atom->nmax);
+  for (int i = 0; i < atom->nmax; ++i) set_arrays(i);
+  atom->add_callback(0);
+  atom->add_callback(1);
+
+  open_records_file();
+}
+
+FixResidenceTime::~FixResidenceTime()
+{
+  atom->delete_callback(id, 0);
+  atom->delete_callback(id, 1);
+  memory->destroy(state_);
+  memory->destroy(bounds_);
+  memory->destroy(inside_);
+  if (fp_) fclose(fp_);
+}
+
+bool FixResidenceTime::yes_no(const char *keyword, const char *value)
+{
+  if (strcmp(value, "yes") == 0) return true;
+  if (strcmp(value, "no") == 0) return false;
+  error->all(FLERR, (std::string("fix ") + id + " residence/time: " + keyword + " = '" + value +
+                     "' must be 'yes' or 'no'").c_str());
+  return false;
+}
+
+void FixResidenceTime::open_records_file()
+{
+  if (comm->me != 0) return;
+  fp_ = fopen(records_path_.c_str(), append_ ? "a" : "w");
+  if (!fp_)
+    error->one(FLERR, (std::string("fix ") + id + " residence/time: cannot open records file '" + records_path_ +
+                       "' for writing: " + strerror(errno)).c_str());
+  fseek(fp_, 0, SEEK_END);
+  if (ftell(fp_) > 0) return;  // appending after a restart: the header is there already
+  std::string header = "# tsg-dem residence records v1\n";
+  header += std::string("# fix ") + id + " residence/time, group " + group->names[igroup] + "\n";
+  header += "# zones file: " + zones_path_ + " (" + std::to_string(zones_.size()) + " zones)\n";
+  for (const auto &z : zones_)
+    header += "# zone " + std::to_string(z.index) + " " + tsg::zones::type_name(z.type) + " " + number(z.x_start) +
+              " " + number(z.x_end) + "\n";
+  if (settings_.periodic)
+    header += "# axis: periodic, passes between crossings of x = " + number(plane_reference_) + " (+x)\n";
+  else
+    header += std::string("# axis: open, inlet ") + (settings_.has_inlet ? number(plane_inlet_) : "none (tagged on insertion)") +
+              ", outlet " + (settings_.has_outlet ? number(plane_outlet_) : "none") + "\n";
+  header += "# analysis domain: " + (has_analysis_ ? "[" + number(analysis_lo_) + ", " + number(analysis_hi_) + ")" :
+                                                     std::string("whole axis")) + "\n";
+  header += "# times in s; residence_time = time inside the analysis domain between entry and exit; "
+            "exit_reason: outlet pass deleted lost inside\n";
+  header += "# columns: " + res::record_columns(static_cast<int>(zones_.size())) + "\n";
+  fputs(header.c_str(), fp_);
+  fflush(fp_);
+}
+
+int FixResidenceTime::setmask() { return FixConst::END_OF_STEP; }
+
+void FixResidenceTime::init()
+{
+  const std::string who = std::string("fix ") + id + " residence/time";
+  if (!atom->tag_enable) error->all(FLERR, (who + " needs atom IDs (atom_modify id yes)").c_str());
+  const double lo = domain->boxlo[0], hi = domain->boxhi[0];
+  const bool x_periodic = domain->xperiodic;
+  if (settings_.periodic && !x_periodic)
+    error->all(FLERR, (who + ": 'periodic' needs a box periodic in x (boundary p ...)").c_str());
+  if (!settings_.periodic && x_periodic)
+    error->all(FLERR, (who + ": the box is periodic in x; give 'periodic X' (the reference plane of a pass)").c_str());
+  // boundary[0][0]: 0 periodic, 1 fixed, 2/3 shrink-wrapped (the box follows the particles)
+  const bool fixed_box = domain->boundary[0][0] <= 1 && domain->boundary[0][1] <= 1;
+  if (fixed_box) {
+    try {
+      tsg::zones::check_inside(zones_, lo, hi, "zones file '" + zones_path_ + "'");
+    } catch (const std::invalid_argument &e) {
+      error->all(FLERR, (who + ": " + e.what()).c_str());
+    }
+    auto inside_box = [&](const char *name, double x, bool upper_open) {
+      if (x < lo || x > hi || (upper_open && x >= hi))
+        error->all(FLERR, (who + ": " + name + " plane x = " + number(x) + " lies outside the simulation box along x [" +
+                           number(lo) + ", " + number(hi) + (upper_open ? ")" : "]")).c_str());
+    };
+    if (settings_.has_inlet) inside_box("inlet", plane_inlet_, false);
+    if (settings_.has_outlet) inside_box("outlet", plane_outlet_, false);
+    if (settings_.periodic) inside_box("periodic reference", plane_reference_, true);
+    if (has_analysis_) {
+      inside_box("analysis XLO", analysis_lo_, false);
+      inside_box("analysis XHI", analysis_hi_, false);
+    }
+  }
+  std::vector<tsg::axial::Plane> planes;
+  if (settings_.has_inlet) planes.push_back({plane_inlet_, tsg::axial::kInlet});
+  if (settings_.has_outlet) planes.push_back({plane_outlet_, tsg::axial::kOutlet});
+  if (settings_.periodic) planes.push_back({plane_reference_, tsg::axial::kReference});
+  tsg::axial::Partition partition;
+  try {
+    partition = tsg::axial::build_partition(zones_, settings_.periodic, lo, hi, analysis_lo_, analysis_hi_, planes);
+  } catch (const std::invalid_argument &e) {
+    error->all(FLERR, (who + ": " + e.what()).c_str());
+  }
+  if (!partition_edges_.empty() && partition_edges_ != partition.edge)
+    error->all(FLERR, (who + ": the box along x changed since the fix was defined; the tracked zone cells would "
+                       "no longer match (unfix and define the fix again)").c_str());
+  partition_edges_ = partition.edge;
+  std::vector<tsg::zones::ZoneType> types;
+  for (const auto &z : zones_) types.push_back(z.type);
+  tracker_ = res::Tracker(partition, types, settings_);
+  if (!flush_given_) flush_every_ = output->thermo_every > 0 ? output->thermo_every : 1000;
+  comm->maxexchange_fix = std::max(comm->maxexchange_fix, nvalues_ + 1);
+  near_usable_ = neighbor->dist_check && neighbor->every == 1 && neighbor->delay == 0 && !neighbor->build_once &&
+                 !atom->radvary_flag;
+  reach_ = neighbor->skin;  // twice the largest move between builds
+}
+
+// Unwrapped axial coordinate; on a periodic axis kept within half an image-flag span of `near`
+// (image flags wrap after IMGMAX periods), when `near` is finite.
+double FixResidenceTime::unwrapped_x(int i, double near) const
+{
+  double u = atom->x[i][0];
+  if (!settings_.periodic) return u;
+  const double length = domain->xprd;
+  const int ix = (atom->image[i] & IMGMASK) - IMGMAX;
+  u += ix * length;
+  const double span = 2.0 * IMGMAX * length;
+  if (std::isfinite(near)) {
+    while (u - near > 0.5 * span) u -= span;
+    while (near - u > 0.5 * span) u += span;
+  }
+  return u;
+}
+
+void FixResidenceTime::remember(int i)
+{
+  const long long key = static_cast<long long>(state_[i][Slot::id]);
+  auto it = shadow_.find(key);
+  if (it == shadow_.end()) {
+    shadow_.emplace(key, Shadow{std::vector<double>(state_[i], state_[i] + nvalues_), false});
+  } else {
+    if (it->second.transit) --transit_entries_;
+    it->second.state.assign(state_[i], state_[i] + nvalues_);
+    it->second.transit = false;
+  }
+}
+
+void FixResidenceTime::add_record(const res::Record &record)
+{
+  pending_.push_back(record);
+  switch (record.reason) {
+    case res::Reason::outlet: local_[kOutlet] += 1; local_[kSumResidence] += record.residence_time; break;
+    case res::Reason::pass: local_[kPass] += 1; local_[kSumResidence] += record.residence_time; break;
+    case res::Reason::deleted: local_[kDeleted] += 1; break;
+    case res::Reason::lost: local_[kLost] += 1; break;
+    case res::Reason::inside: local_[kRecordsInside] += 1; break;
+  }
+}
+
+// Every particle of the group at set-up, on steps with a neighbour-list build and whenever the
+// neighbour settings do not bound the moves between builds; otherwise only those near a cell edge.
+void FixResidenceTime::track(double t0, double t1, bool at_setup)
+{
+  long starts = 0;
+  const double *x = atom->x[0];  // x is one contiguous block: x[i][0] = x[0][3 i]
+  const tagint *image = atom->image;
+  const double length = settings_.periodic ? domain->xprd : 0.0;
+  if (at_setup || neighbor->ago == 0 || !near_usable_) {
+    near_.clear();
+    const int nlocal = atom->nlocal;
+    const int *mask = atom->mask;
+    for (int i = 0; i < nlocal; ++i) {
+      if (!(mask[i] & groupbit)) continue;
+      track_one(i, t0, t1, at_setup, starts);
+      if (!near_usable_) continue;
+      const double u = x[3 * i] + ((image[i] & IMGMASK) - IMGMAX) * length;
+      const double lo = bounds_[i][0], hi = bounds_[i][1];
+      if (u - lo < reach_ || hi - u <= reach_) near_.push_back({i, lo, hi});
+    }
+  } else {
+    for (Near &n : near_) {
+      const double u = x[3 * n.i] + ((image[n.i] & IMGMASK) - IMGMAX) * length;
+      if (u >= n.lo && u < n.hi) continue;
+      track_one(n.i, t0, t1, at_setup, starts);
+      n.lo = bounds_[n.i][0];
+      n.hi = bounds_[n.i][1];
+    }
+  }
+  local_[kEntered] += starts;
+}
+
+void FixResidenceTime::track_one(int i, double t0, double t1, bool at_setup, long &starts)
+{
+  double u = atom->x[i][0];
+  if (settings_.periodic) u += ((atom->image[i] & IMGMASK) - IMGMAX) * domain->xprd;
+  const double *b = bounds_[i];
+  if (u >= b[0] && u < b[1]) return;  // the common case: still in the same cell, nothing changes
+  double *s = state_[i];
+  const int status = static_cast<int>(s[Slot::status]);
+  if (status == res::kUnseen) {
+    const bool existing = at_setup && !first_setup_done_;
+    if (tracker_.first_sight(s, atom->tag[i], unwrapped_x(i, NAN), t1, existing) == res::kInside) {
+      ++starts;
+      remember(i);
+    }
+    sync_hot(i);
+    return;
+  }
+  const bool was_inside = status == res::kInside;
+  // the cell edge is never more than a few steps away: it anchors the image-flag wrap-around
+  u = unwrapped_x(i, std::isfinite(s[Slot::lo]) ? s[Slot::lo] : s[Slot::hi]);
+  const double u0 = u - atom->v[i][0] * (t1 - t0);  // where it was at t0 (exact for constant velocity)
+  auto sink = [this](const res::Record &record) { add_record(record); };
+  if (tracker_.advance(s, u0, u, t0, t1, sink, starts)) {
+    if (s[Slot::status] == res::kInside) remember(i);
+    else if (was_inside) shadow_.erase(static_cast<long long>(s[Slot::id]));
+    sync_hot(i);
+  }
+}
+
+// Particle ids can only change between runs (delete_atoms ... compress yes, reset_atom_ids).
+void FixResidenceTime::check_ids()
+{
+  const int *tag = atom->tag;
+  for (int i = 0; i < atom->nlocal; ++i) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    const double *s = state_[i];
+    if (s[Slot::status] != res::kUnseen && s[Slot::id] != tag[i]) {
+      char message[256];
+      snprintf(message, sizeof message,
+               "fix %s residence/time: particle id changed from %.0f to %d (ids renumbered, e.g. by "
+               "delete_atoms ... compress yes); residence tracking needs stable ids: use compress no",
+               id, s[Slot::id], tag[i]);
+      error->one(FLERR, message);
+    }
+  }
+}
+
+void FixResidenceTime::reconcile(double t)
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  // 1. particles gone from this rank without leaving through pack_exchange: deleted
+  long owned_inside = 0;
+  for (int i = 0; i < nlocal; ++i) owned_inside += inside_[i];  // only group members are ever inside
+  const long resident = static_cast<long>(shadow_.size()) - transit_entries_;
+  if (owned_inside != resident) {
+    std::unordered_set<long long> owned;
+    owned.reserve(static_cast<size_t>(owned_inside) * 2 + 1);
+    for (int i = 0; i < nlocal; ++i)
+      if ((mask[i] & groupbit) && state_[i][Slot::status] == res::kInside)
+        owned.insert(static_cast<long long>(state_[i][Slot::id]));
+    std::vector<long long> deleted;
+    for (const auto &entry : shadow_)
+      if (!entry.second.transit && !owned.count(entry.first)) deleted.push_back(entry.first);
+    std::sort(deleted.begin(), deleted.end());
+    for (long long key : deleted) {
+      add_record(tracker_.close(shadow_[key].state.data(), t, res::Reason::deleted));
+      shadow_.erase(key);
+    }
+    // owned inside particles without a shadow entry: after read_restart (the shadow is not part of
+    // the restart file) — take it from the particle
+    for (int i = 0; i < nlocal; ++i)
+      if ((mask[i] & groupbit) && state_[i][Slot::status] == res::kInside) {
+        auto it = shadow_.find(static_cast<long long>(state_[i][Slot::id]));
+        if (it == shadow_.end() || it->second.transit) remember(i);
+      }
+  }
+
+  // 2. packed for another rank but arrived nowhere: lost
+  long gap_local = packs_ - arrivals_, gap = 0;
+  MPI_Allreduce(&gap_local, &gap, 1, MPI_LONG, MPI_SUM, world);
+  if (gap != 0) {
+    std::vector<long long> mine;
+    for (const auto &entry : shadow_)
+      if (entry.second.transit) mine.push_back(entry.first);
+    int count = static_cast<int>(mine.size());
+    std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+    int total = 0;
+    for (int p = 0; p < comm->nprocs; ++p) {
+      displs[p] = total;
+      total += counts[p];
+    }
+    std::vector<long long> all(static_cast<size_t>(total));
+    MPI_Allgatherv(mine.data(), count, MPI_LONG_LONG, all.data(), counts.data(), displs.data(), MPI_LONG_LONG, world);
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    std::vector<int> claim(all.size()), result(all.size());
+    for (size_t k = 0; k < all.size(); ++k) {
+      auto it = shadow_.find(all[k]);
+      claim[k] = it == shadow_.end() ? comm->nprocs : (it->second.transit ? comm->me : -1);
+    }
+    if (!all.empty())
+      MPI_Allreduce(claim.data(), result.data(), static_cast<int>(all.size()), MPI_INT, MPI_MIN, world);
+    for (size_t k = 0; k < all.size(); ++k)
+      if (result[k] == comm->me) add_record(tracker_.close(shadow_[all[k]].state.data(), t, res::Reason::lost));
+  }
+  if (transit_entries_ > 0)
+    for (auto it = shadow_.begin(); it != shadow_.end();) {
+      if (it->second.transit) it = shadow_.erase(it);
+      else ++it;
+    }
+  transit_entries_ = 0;
+  packs_ = arrivals_ = 0;
+}
+
+double FixResidenceTime::now() const { return update->get_cur_time() + clock_offset_; }
+
+void FixResidenceTime::setup(int)
+{
+  if (clock_from_restart_) {  // continue the clock of the run that wrote the restart file
+    clock_offset_ = restart_time_ + static_cast<double>(update->ntimestep - static_cast<bigint>(restart_step_)) * update->dt -
+                    update->get_cur_time();
+    clock_from_restart_ = false;
+  }
+  const double t = now();
+  cache_valid_ = false;
+  check_ids();
+  reconcile(t);                // deletions between runs, losses during set-up, shadow after a restart
+  track(t, t, true);           // first sight of existing particles; moves between runs are instantaneous
+  first_setup_done_ = true;
+}
+
+void FixResidenceTime::end_of_step()
+{
+  const double t1 = now();
+  const double t0 = t1 - update->dt;
+  cache_valid_ = false;
+  if (neighbor->ago == 0) reconcile(t1);
+  track(t0, t1, false);
+  const bigint step = update->ntimestep;
+  if (step % flush_every_ == 0 || output->restart_requested(step) || step == update->laststep) flush();
+}
+
+void FixResidenceTime::post_run()
+{
+  cache_valid_ = false;
+  if (write_inside_) {
+    const double t = now();
+    for (int i = 0; i < atom->nlocal; ++i)
+      if ((atom->mask[i] & groupbit) && state_[i][Slot::status] == res::kInside)
+        add_record(tracker_.close(state_[i], t, res::Reason::inside));
+  }
+  flush();
+}
+
+void FixResidenceTime::flush()
+{
+  const int nzones = static_cast<int>(zones_.size());
+  const int width = kRecordHead + nzones;
+  std::vector<double> mine;
+  mine.reserve(pending_.size() * width);
+  for (const auto &r : pending_) {
+    mine.insert(mine.end(), {r.id, r.entry_time, r.exit_time, r.residence_time, static_cast<double>(r.reason),
+                             r.type_time[0], r.type_time[1], r.type_time[2]});
+    mine.insert(mine.end(), r.zone_time.begin(), r.zone_time.end());
+  }
+  pending_.clear();
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, world);
+  int total = 0;
+  if (comm->me == 0)
+    for (int p = 0; p < comm->nprocs; ++p) {
+      displs[p] = total;
+      total += counts[p];
+    }
+  std::vector<double> all(comm->me == 0 ? static_cast<size_t>(total) : 0);
+  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, world);
+  if (comm->me == 0 && total > 0) {
+    const size_t n = static_cast<size_t>(total / width);
+    std::vector<res::Record> records(n);
+    for (size_t k = 0; k < n; ++k) {
+      const double *row = &all[k * width];
+      res::Record &r = records[k];
+      r.id = row[0];
+      r.entry_time = row[1];
+      r.exit_time = row[2];
+      r.residence_time = row[3];
+      r.reason = static_cast<res::Reason>(static_cast<int>(row[4]));
+      for (int c = 0; c < 3; ++c) r.type_time[c] = row[5 + c];
+      r.zone_time.assign(row + kRecordHead, row + width);
+    }
+    std::sort(records.begin(), records.end(), [](const res::Record &a, const res::Record &b) {
+      return std::make_tuple(a.exit_time, a.id, static_cast<int>(a.reason)) <
+             std::make_tuple(b.exit_time, b.id, static_cast<int>(b.reason));
+    });
+    std::string text;
+    for (const auto &r : records) text += res::format_record(r) + "\n";
+    fwrite(text.data(), 1, text.size(), fp_);
+  }
+  if (comm->me == 0 && fp_) fflush(fp_);
+  sync_counters();
+}
+
+void FixResidenceTime::sync_counters()
+{
+  double sum[kCounters];
+  MPI_Allreduce(local_, sum, kCounters, MPI_DOUBLE, MPI_SUM, world);
+  for (int c = 0; c < kCounters; ++c) {
+    total_[c] += sum[c];
+    local_[c] = 0;
+  }
+}
+
+int FixResidenceTime::modify_param(int narg, char **arg)
+{
+  if (strcmp(arg[0], "inside") == 0) {
+    if (narg < 2) error->all(FLERR, (std::string("fix_modify ") + id + " inside needs yes or no").c_str());
+    write_inside_ = yes_no("inside", arg[1]);
+    return 2;
+  }
+  return 0;
+}
+
+double FixResidenceTime::compute_vector(int n)
+{
+  if (!cache_valid_) {  // collective: thermo and variables evaluate fix values on every rank
+    sync_counters();
+    double inside = 0;
+    for (int i = 0; i < atom->nlocal; ++i) inside += inside_[i];
+    MPI_Allreduce(&inside, &inside_now_, 1, MPI_DOUBLE, MPI_SUM, world);
+    cache_valid_ = true;
+  }
+  const double complete = total_[kOutlet] + total_[kPass];
+  switch (n) {
+    case 0: return complete + total_[kDeleted] + total_[kLost];
+    case 1: return complete;
+    case 2: return complete > 0 ? total_[kSumResidence] / complete : 0.0;
+    case 3: return total_[kEntered];
+    case 4: return inside_now_;
+    case 5: return total_[kOutlet];
+    case 6: return total_[kPass];
+    case 7: return total_[kDeleted];
+    default: return total_[kLost];
+  }
+}
+
+// ---- per-atom state ------------------------------------------------------------------------------
+
+void FixResidenceTime::grow_arrays(int nmax)
+{
+  memory->grow(state_, nmax, nvalues_, "residence/time:state");
+  memory->grow(bounds_, nmax, 2, "residence/time:bounds");
+  memory->grow(inside_, nmax, "residence/time:inside");
+}
+
+void FixResidenceTime::copy_arrays(int i, int j, int)
+{
+  std::copy(state_[i], state_[i] + nvalues_, state_[j]);
+  bounds_[j][0] = bounds_[i][0];
+  bounds_[j][1] = bounds_[i][1];
+  inside_[j] = inside_[i];
+}
+
+void FixResidenceTime::set_arrays(int i)
+{
+  std::fill(state_[i], state_[i] + nvalues_, 0.0);  // kUnseen, cell [0, 0): first sight at the next step
+  sync_hot(i);
+}
+
+int FixResidenceTime::pack_exchange(int i, double *buf)
+{
+  std::copy(state_[i], state_[i] + nvalues_, buf);
+  if (state_[i][Slot::status] == res::kInside) {
+    ++packs_;
+    auto it = shadow_.find(static_cast<long long>(state_[i][Slot::id]));
+    if (it != shadow_.end() && !it->second.transit) {
+      it->second.transit = true;
+      ++transit_entries_;
+    }
+  }
+  return nvalues_;
+}
+
+int FixResidenceTime::unpack_exchange(int nlocal, double *buf)
+{
+  std::copy(buf, buf + nvalues_, state_[nlocal]);
+  sync_hot(nlocal);
+  if (state_[nlocal][Slot::status] == res::kInside) {
+    ++arrivals_;
+    remember(nlocal);
+  }
+  return nvalues_;
+}
+
+int FixResidenceTime::pack_restart(int i, double *buf)
+{
+  buf[0] = nvalues_ + 1;
+  std::copy(state_[i], state_[i] + nvalues_, buf + 1);
+  return nvalues_ + 1;
+}
+
+void FixResidenceTime::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
+  const int size = static_cast<int>(extra[nlocal][m]) - 1;
+  if (size != nvalues_)
+    error->one(FLERR, (std::string("fix ") + id + " residence/time: the restart file holds " + std::to_string(size) +
+                       " values per particle, this fix needs " + std::to_string(nvalues_) +
+                       " (a zones file with a different number of zones?)").c_str());
+  std::copy(&extra[nlocal][m + 1], &extra[nlocal][m + 1] + nvalues_, state_[nlocal]);
+  sync_hot(nlocal);
+}
+
+int FixResidenceTime::size_restart(int) { return nvalues_ + 1; }
+
+int FixResidenceTime::maxsize_restart() { return nvalues_ + 1; }
+
+// global state: the counters (synced at every restart step, see end_of_step), whether the particles
+// present at the start have been seen, the number of zones, and the clock
+namespace {
+enum RestartEntry { kFirstSetupDone, kZoneCount, kClockTime, kClockStep, kRestartExtra };
+}
+
+void FixResidenceTime::write_restart(FILE *fp)
+{
+  double list[kCounters + kRestartExtra];
+  for (int c = 0; c < kCounters; ++c) list[c] = total_[c];
+  list[kCounters + kFirstSetupDone] = first_setup_done_ ? 1.0 : 0.0;
+  list[kCounters + kZoneCount] = static_cast<double>(zones_.size());
+  list[kCounters + kClockTime] = now();
+  list[kCounters + kClockStep] = static_cast<double>(update->ntimestep);
+  if (comm->me == 0) {
+    int size = static_cast<int>(sizeof list);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), kCounters + kRestartExtra, fp);
+  }
+}
+
+void FixResidenceTime::restart(char *buf)
+{
+  const double *list = reinterpret_cast<const double *>(buf);
+  if (static_cast<size_t>(list[kCounters + kZoneCount]) != zones_.size())
+    error->all(FLERR, (std::string("fix ") + id + " residence/time: the restart file was written with " +
+                       number(list[kCounters + kZoneCount]) + " zones, the zones file now has " +
+                       std::to_string(zones_.size())).c_str());
+  for (int c = 0; c < kCounters; ++c) total_[c] = list[c];
+  first_setup_done_ = list[kCounters + kFirstSetupDone] != 0;
+  restart_time_ = list[kCounters + kClockTime];
+  restart_step_ = list[kCounters + kClockStep];
+  clock_from_restart_ = true;
+}
+
+double FixResidenceTime::memory_usage()
+{
+  double bytes = static_cast<double>(atom->nmax) * (nvalues_ + 2) * sizeof(double);
+  bytes += static_cast<double>(shadow_.size()) * (nvalues_ * sizeof(double) + 64);
+  return bytes;
+}

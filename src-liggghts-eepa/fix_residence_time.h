@@ -1,0 +1,146 @@
+// fix residence/time — residence-time records per particle, per zone and per zone type.
+//
+//   fix ID group residence/time zones ZONES_FILE records RECORDS_FILE [keyword value ...]
+//     inlet X            open axis: particles upstream of X are tagged when they cross it towards +x
+//     outlet X           open axis: crossing X towards +x ends the residence (reason "outlet")
+//     periodic X         periodic x: a pass runs from one crossing of X (or an image) to the next
+//     analysis XLO XHI   analysis domain along x; time outside it (buffer zones) is not counted
+//     existing tag|wait  particles present when the fix starts: tagged at once or wait for an entry
+//                        (default: tag on an open axis, wait on a periodic one)
+//     inside yes|no      at the end of every run write a record with reason "inside" for every
+//                        particle still inside (snapshot; default no; also fix_modify ID inside ...)
+//     flush N            write buffered records every N steps (default: the thermo interval)
+//     append yes|no      append to RECORDS_FILE (after a restart) instead of overwriting it
+//
+// Records file: see docs/measurement.md. Global vector for thermo (f_ID[i]):
+//   1 records (outlet + pass + deleted + lost)   2 complete records (outlet + pass)
+//   3 mean residence time of complete records, s  4 entries (particles tagged + passes started)
+//   5 particles inside now                        6 outlet records   7 pass records
+//   8 deleted records                             9 lost records
+// Balance: entries = records + inside.
+#ifdef FIX_CLASS
+FixStyle(residence/time,FixResidenceTime)
+#else
+#ifndef TSG_FIX_RESIDENCE_TIME_H
+#define TSG_FIX_RESIDENCE_TIME_H
+
+#include <cstdio>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "fix.h"
+#include "residence.h"
+#include "zones.h"
+
+namespace LAMMPS_NS {
+
+class FixResidenceTime : public Fix {
+public:
+  FixResidenceTime(class LAMMPS *, int, char **);
+  ~FixResidenceTime();
+  int setmask();
+  void init();
+  void setup(int);
+  void end_of_step();
+  void post_run();
+  int modify_param(int, char **);
+  double compute_vector(int);
+
+  void grow_arrays(int);
+  void copy_arrays(int, int, int);
+  void set_arrays(int);
+  int pack_exchange(int, double *);
+  int unpack_exchange(int, double *);
+  int pack_restart(int, double *);
+  void unpack_restart(int, int);
+  int size_restart(int);
+  int maxsize_restart();
+  void write_restart(FILE *);
+  void restart(char *);
+  double memory_usage();
+
+private:
+  struct Shadow {
+    std::vector<double> state;
+    bool transit;
+  };
+  enum Counter { kEntered, kOutlet, kPass, kDeleted, kLost, kRecordsInside, kSumResidence, kCounters };
+
+  double unwrapped_x(int i, double near) const;
+  // refreshes the compact copies (bounds_, inside_) after the state of particle i changed
+  void sync_hot(int i) {
+    bounds_[i][0] = state_[i][tsg::residence::Slot::lo];
+    bounds_[i][1] = state_[i][tsg::residence::Slot::hi];
+    inside_[i] = state_[i][tsg::residence::Slot::status] == tsg::residence::kInside;
+  }
+  double now() const;
+  void track(double t0, double t1, bool at_setup);
+  void track_one(int i, double t0, double t1, bool at_setup, long &starts);
+  void reconcile(double t);
+  void check_ids();
+  void remember(int i);
+  void add_record(const tsg::residence::Record &record);
+  void flush();
+  void sync_counters();
+  void open_records_file();
+  bool yes_no(const char *keyword, const char *value);
+
+  std::string zones_path_;
+  std::vector<tsg::zones::Zone> zones_;
+  tsg::residence::Tracker tracker_;
+  tsg::residence::Settings settings_;
+  std::vector<double> partition_edges_;  // of the first init(), to detect a changed box
+  double plane_inlet_, plane_outlet_, plane_reference_;
+  double analysis_lo_, analysis_hi_;
+  bool has_analysis_;
+  bool existing_given_;
+  bool write_inside_;
+  bool append_;
+  int flush_every_;
+  bool flush_given_;
+  bool first_setup_done_;
+
+  int nvalues_;      // per-atom state size
+  double **state_;   // per-atom state (residence.h Slot layout)
+  double **bounds_;  // per atom: copy of the state's cell bounds lo, hi (the only data read every step)
+  char *inside_;     // per atom: 1 when the state says inside (read on reneighbouring steps)
+  // Between neighbour-list builds no particle moves more than half the skin (neigh_modify delay 0
+  // every 1 check yes): only particles within one skin of a cell edge are looked at then.
+  struct Near {
+    int i;          // local index (valid until the next build)
+    double lo, hi;  // copy of its bounds, so that the loop reads only x (and image) per particle
+  };
+  std::vector<Near> near_;
+  bool near_usable_;
+  double reach_;
+
+  std::string records_path_;
+  FILE *fp_;         // rank 0
+
+  std::unordered_map<long long, Shadow> shadow_;  // inside particles owned here, by id
+  long transit_entries_;
+  long packs_, arrivals_;
+
+  std::vector<tsg::residence::Record> pending_;
+  double local_[kCounters];   // since the last sync, this rank
+  double total_[kCounters];   // all ranks, as of the last sync (restart-safe)
+  bool cache_valid_;
+  double inside_now_;
+
+  // LIGGGHTS 3.8 does not keep the simulation time in restart files (it starts again from 0 after
+  // read_restart); the fix keeps its own clock across a restart: now() = get_cur_time() + offset
+  double clock_offset_;
+  bool clock_from_restart_;
+  double restart_time_;
+  double restart_step_;
+};
+
+}  // namespace LAMMPS_NS
+
+// Reads a zones file on rank 0 and parses it on every rank (physics/zones.h); a missing or bad file
+// stops the run with the parser's message (file, line, reason), prefixed by `who`.
+std::vector<tsg::zones::Zone> tsg_read_zones(LAMMPS_NS::LAMMPS *lmp, const char *path, const std::string &who);
+
+#endif
+#endif

@@ -1,0 +1,186 @@
+// Zones (screw elements) along the granulator axis: the zones file and look-ups, dependency-free.
+//
+// Zones file, written by the mesh generator (meshes/tsg_meshes/build.py, zones.txt):
+//   - lines whose first non-blank character is '#' are comments; blank lines are ignored;
+//   - one line per element:  index type x_start x_end free_volume
+//       index        1, 2, 3, ... in file order
+//       type         conveying | kneading | chopping
+//       x_start/x_end axial extent in metres, x_start < x_end
+//       free_volume  free (void) volume of the zone in m^3, > 0
+//   - zones sorted by x_start and not overlapping (adjacent zones, x_end[i] == x_start[i+1], allowed).
+// Axial direction is x (screw axes along +x, flow towards +x).
+//
+// Every violation throws std::invalid_argument with the source name, the line number and the reason.
+#pragma once
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <istream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace tsg::zones {
+
+enum class ZoneType { conveying = 0, kneading = 1, chopping = 2 };
+constexpr int kZoneTypes = 3;
+
+inline const char *type_name(ZoneType type) {
+  switch (type) {
+    case ZoneType::conveying: return "conveying";
+    case ZoneType::kneading: return "kneading";
+    default: return "chopping";
+  }
+}
+
+struct Zone {
+  int index;           // 1-based, as in the file
+  ZoneType type;
+  double x_start;      // m
+  double x_end;        // m
+  double free_volume;  // m^3
+  int line;            // line of the file it came from (for later error messages)
+};
+
+namespace detail {
+
+inline std::string number(double value) {
+  std::ostringstream out;
+  out.precision(10);
+  out << value;
+  return out.str();
+}
+
+inline std::string where(const std::string &source, int line) {
+  return source + ", line " + std::to_string(line) + ": ";
+}
+
+// Whole-token number parse: "1e-3" yes, "1e-3m", "", "nan", "inf" no.
+inline bool parse_number(const std::string &token, double &value) {
+  if (token.empty()) return false;
+  const char *begin = token.c_str();
+  char *end = nullptr;
+  errno = 0;
+  value = std::strtod(begin, &end);
+  if (end != begin + token.size() || errno == ERANGE) return false;
+  return std::isfinite(value);
+}
+
+inline bool parse_index(const std::string &token, long &value) {
+  if (token.empty()) return false;
+  const char *begin = token.c_str();
+  char *end = nullptr;
+  errno = 0;
+  value = std::strtol(begin, &end, 10);
+  return end == begin + token.size() && errno != ERANGE;
+}
+
+}  // namespace detail
+
+// Parses a zones file from a stream; `source` names it in error messages (usually its path).
+inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source) {
+  using detail::where;
+  std::vector<Zone> zones;
+  std::string text;
+  int line_number = 0;
+  while (std::getline(in, text)) {
+    ++line_number;
+    if (!text.empty() && text.back() == '\r') text.pop_back();  // files written on Windows
+    const auto first = text.find_first_not_of(" \t");
+    if (first == std::string::npos || text[first] == '#') continue;
+    std::istringstream fields(text);
+    std::vector<std::string> tokens;
+    for (std::string token; fields >> token;) tokens.push_back(token);
+    if (tokens.size() != 5)
+      throw std::invalid_argument(where(source, line_number) + "expected 5 fields 'index type x_start x_end free_volume', found " +
+                                  std::to_string(tokens.size()) + " in '" + text + "'");
+    Zone zone{};
+    zone.line = line_number;
+    long index = 0;
+    if (!detail::parse_index(tokens[0], index))
+      throw std::invalid_argument(where(source, line_number) + "index '" + tokens[0] + "' is not an integer");
+    const long expected = static_cast<long>(zones.size()) + 1;
+    if (index != expected)
+      throw std::invalid_argument(where(source, line_number) + "index " + tokens[0] + " out of sequence: expected " +
+                                  std::to_string(expected) + " (zones are numbered 1, 2, 3, ... in file order)");
+    zone.index = static_cast<int>(index);
+    if (tokens[1] == "conveying") zone.type = ZoneType::conveying;
+    else if (tokens[1] == "kneading") zone.type = ZoneType::kneading;
+    else if (tokens[1] == "chopping") zone.type = ZoneType::chopping;
+    else
+      throw std::invalid_argument(where(source, line_number) + "type '" + tokens[1] +
+                                  "' is not one of conveying, kneading, chopping");
+    const char *names[3] = {"x_start", "x_end", "free_volume"};
+    double *targets[3] = {&zone.x_start, &zone.x_end, &zone.free_volume};
+    for (int k = 0; k < 3; ++k)
+      if (!detail::parse_number(tokens[2 + k], *targets[k]))
+        throw std::invalid_argument(where(source, line_number) + names[k] + " '" + tokens[2 + k] +
+                                    "' is not a finite number");
+    if (!(zone.x_end > zone.x_start))
+      throw std::invalid_argument(where(source, line_number) + "x_end " + tokens[3] + " must be greater than x_start " +
+                                  tokens[2]);
+    if (!(zone.free_volume > 0))
+      throw std::invalid_argument(where(source, line_number) + "free_volume " + tokens[4] + " must be positive (m^3)");
+    if (!zones.empty()) {
+      const Zone &previous = zones.back();
+      if (zone.x_start < previous.x_start)
+        throw std::invalid_argument(where(source, line_number) + "zone " + tokens[0] + " starts at x = " + tokens[2] +
+                                    ", before zone " + std::to_string(previous.index) + " (line " +
+                                    std::to_string(previous.line) + "): zones must be sorted by x_start");
+      if (zone.x_start < previous.x_end)
+        throw std::invalid_argument(where(source, line_number) + "zone " + tokens[0] + " [" + tokens[2] + ", " + tokens[3] +
+                                    "] overlaps zone " + std::to_string(previous.index) + " (line " +
+                                    std::to_string(previous.line) + ") which ends at x = " +
+                                    detail::number(previous.x_end) + " (adjacent zones may touch, not overlap)");
+    }
+    zones.push_back(zone);
+  }
+  if (in.bad()) throw std::invalid_argument(source + ": read error");
+  if (zones.empty())
+    throw std::invalid_argument(source + ": no zones (expected lines 'index type x_start x_end free_volume')");
+  return zones;
+}
+
+inline std::vector<Zone> parse_zones_text(const std::string &text, const std::string &source) {
+  std::istringstream in(text);
+  return parse_zones(in, source);
+}
+
+// Throws unless every zone lies inside [lo, hi] (the simulation box along x).
+inline void check_inside(const std::vector<Zone> &zones, double lo, double hi, const std::string &source) {
+  for (const Zone &zone : zones)
+    if (zone.x_start < lo || zone.x_end > hi) {
+      std::ostringstream message;
+      message.precision(10);
+      message << detail::where(source, zone.line) << "zone " << zone.index << " [" << zone.x_start << ", " << zone.x_end
+              << "] lies (partly) outside the simulation box along x [" << lo << ", " << hi << "]";
+      throw std::invalid_argument(message.str());
+    }
+}
+
+// Index (0-based) of the zone containing x, half-open [x_start, x_end); -1 when none does.
+inline int find_zone(const std::vector<Zone> &zones, double x) {
+  std::size_t lo = 0, hi = zones.size();
+  while (lo < hi) {  // first zone with x_end > x
+    const std::size_t mid = (lo + hi) / 2;
+    if (zones[mid].x_end > x) hi = mid;
+    else lo = mid + 1;
+  }
+  if (lo < zones.size() && zones[lo].x_start <= x) return static_cast<int>(lo);
+  return -1;
+}
+
+// First zone (0-based) whose x_end is greater than x; zones.size() when none.
+inline std::size_t first_zone_ending_after(const std::vector<Zone> &zones, double x) {
+  std::size_t lo = 0, hi = zones.size();
+  while (lo < hi) {
+    const std::size_t mid = (lo + hi) / 2;
+    if (zones[mid].x_end > x) hi = mid;
+    else lo = mid + 1;
+  }
+  return lo;
+}
+
+}  // namespace tsg::zones
