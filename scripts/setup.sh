@@ -84,10 +84,16 @@ echo "lmp ready: $build_dir/lmp (build step took $(( $(date +%s) - start )) s)"
 
 # ---- 5. meshes -----------------------------------------------------------------------------------
 current_step="screw and barrel meshes"
-if [ -d meshes/tsg_meshes ]; then
-  step "$current_step"
+step "$current_step"
+mesh_stamp="$build_dir/meshes/.generator.sha256"
+mesh_want="$(cat meshes/tsg_meshes/*.py meshes/configs/*.spec | sha256sum | cut -d' ' -f1)"
+if [ -f "$mesh_stamp" ] && [ "$(cat "$mesh_stamp")" = "$mesh_want" ]; then
+  echo "meshes in $build_dir/meshes are up to date with meshes/"
+else
+  rm -rf "$build_dir/meshes"
   PYTHONPATH="$root/meshes" .venv/bin/python -m tsg_meshes build-all "$build_dir/meshes" \
     || fail "mesh generation failed (see the message above)"
+  echo "$mesh_want" > "$mesh_stamp"
 fi
 
 step "set-up complete"

@@ -159,7 +159,9 @@ def _first_bad_line(path: Path, text: str, expected_fields: int) -> str:
 def _load_table(path: Path, text: str, expected_fields: int) -> np.ndarray:
     """All non-comment lines as a (rows, expected_fields) float array."""
     try:
-        table = np.loadtxt(io.StringIO(text), comments="#", ndmin=2, dtype=np.float64)
+        with warnings.catch_warnings():   # a file with a header only is a valid, empty table
+            warnings.filterwarnings("ignore", message="loadtxt: input contained no data")
+            table = np.loadtxt(io.StringIO(text), comments="#", ndmin=2, dtype=np.float64)
     except ValueError:
         raise AnalysisInputError(_first_bad_line(path, text, expected_fields)) from None
     if table.size == 0:

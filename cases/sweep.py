@@ -1,0 +1,141 @@
+"""Sensitivity matrix of the seed paper as run directories: write, run (resumable), status.
+
+    python cases/sweep.py write SWEEP_DIR [--scale paper|demo] [--np N] [-v name value ...]
+    python cases/sweep.py run SWEEP_DIR [--only NAME ...]      # locally, one after the other
+    python cases/sweep.py status SWEEP_DIR
+    sbatch SWEEP_DIR/sweep.slurm                               # on a cluster: one array task per run
+
+The matrix (periodic case): the Table 3 reference; Table 4's univariate variations (restitution
+0.1 and 0.9, static friction 0.1, rolling friction 0.2, relative standard deviation 0.2, high
+cohesion), each applied to particle–particle and particle–geometry alike as the paper does; and
+the particle-size series of Section 2.4 (mean diameter 200–1500 um, same mass). Each run directory
+holds `params.json`, `run.sh` (the local command) and, once run, the case outputs and a state
+marker: RUNNING (with the process id), DONE or FAILED (with the exit status).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+BOTH = ("pp", "pg")   # Table 4: χ, μs and μr apply to both particle–particle and particle–geometry
+
+
+def matrix() -> dict[str, dict[str, object]]:
+    runs: dict[str, dict[str, object]] = {"reference": {}}
+    for value in (0.1, 0.9):
+        runs[f"restitution-{value}"] = {f"e_{k}": value for k in BOTH}
+    runs["static-friction-0.1"] = {f"mus_{k}": 0.1 for k in BOTH}
+    runs["rolling-friction-0.2"] = {f"mur_{k}": 0.2 for k in BOTH}
+    runs["psd-sigma-0.2"] = {"psd_sigma": 0.2}
+    runs["cohesion-high"] = {"cohesion": 1}
+    for microns in (200, 600, 800, 1000, 1500):          # 400 um is the reference
+        runs[f"diameter-{microns}um"] = {"d_mean": round(microns * 1e-6, 12)}
+    return runs
+
+
+def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str]) -> list[Path]:
+    sweep.mkdir(parents=True, exist_ok=True)
+    names = []
+    for name, variables in matrix().items():
+        run_dir = sweep / name
+        run_dir.mkdir(exist_ok=True)
+        merged = {**{k: str(v) for k, v in variables.items()}, **overrides}
+        (run_dir / "params.json").write_text(json.dumps({"case": "periodic", "scale": scale, "vars": merged}, indent=1))
+        python = shlex.quote(str(ROOT / ".venv" / "bin" / "python"))
+        runner = shlex.quote(str(ROOT / "cases" / "run_case.py"))
+        options = " ".join(f"-v {shlex.quote(k)} {shlex.quote(v)}" for k, v in merged.items())
+        (run_dir / "run.sh").write_text(
+            "#!/usr/bin/env bash\n# One run of the sweep; its state goes to RUNNING / DONE / FAILED here.\n"
+            'here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"\n'
+            'rm -f "$here/DONE" "$here/FAILED"; echo $$ > "$here/RUNNING"\n'
+            f'{python} {runner} periodic --scale {scale} --np "${{TSG_NP:-{ranks}}}" --out "$here" {options}'
+            ' > "$here/run.out" 2>&1\nstatus=$?\nrm -f "$here/RUNNING"\n'
+            'if [ $status -eq 0 ]; then touch "$here/DONE"; else echo $status > "$here/FAILED"; fi\nexit $status\n')
+        (run_dir / "run.sh").chmod(0o755)
+        names.append(name)
+    (sweep / "runs.txt").write_text("\n".join(names) + "\n")
+    (sweep / "sweep.slurm").write_text(
+        "#!/usr/bin/env bash\n"
+        f"#SBATCH --job-name=tsg-sweep\n#SBATCH --array=0-{len(names) - 1}\n#SBATCH --ntasks={ranks}\n"
+        "#SBATCH --time=24:00:00\n#SBATCH --output=%x-%a.out\n"
+        "# One array task per line of runs.txt; finished runs (DONE) are skipped, so resubmitting resumes.\n"
+        'sweep="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"\n'
+        'name=$(sed -n "$((SLURM_ARRAY_TASK_ID + 1))p" "$sweep/runs.txt")\n'
+        '[ -f "$sweep/$name/DONE" ] && exit 0\n'
+        'TSG_NP=$SLURM_NTASKS exec "$sweep/$name/run.sh"\n')
+    return [sweep / n for n in names]
+
+
+def state(run_dir: Path) -> str:
+    if (run_dir / "DONE").exists():
+        return "done"
+    if (run_dir / "FAILED").exists():
+        return f"failed (exit {(run_dir / 'FAILED').read_text().strip()})"
+    if (run_dir / "RUNNING").exists():
+        pid = (run_dir / "RUNNING").read_text().strip()
+        alive = pid.isdigit() and Path(f"/proc/{pid}").exists()
+        return "running" if alive else "interrupted"
+    return "pending"
+
+
+def run_dirs(sweep: Path) -> list[Path]:
+    listing = sweep / "runs.txt"
+    if not listing.is_file():
+        raise SystemExit(f"{sweep} is not a sweep directory (no runs.txt): write it first")
+    return [sweep / name for name in listing.read_text().split()]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True)
+    w = sub.add_parser("write")
+    w.add_argument("sweep", type=Path)
+    w.add_argument("--scale", choices=["paper", "demo"], default="paper")
+    w.add_argument("--np", type=int, default=4)
+    w.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
+                   help="applied to every run (e.g. shorter times)")
+    r = sub.add_parser("run")
+    r.add_argument("sweep", type=Path)
+    r.add_argument("--only", nargs="*", default=None)
+    s = sub.add_parser("status")
+    s.add_argument("sweep", type=Path)
+    args = parser.parse_args(argv)
+    if args.command == "write":
+        dirs = write(args.sweep, args.scale, args.np, dict(args.var))
+        print(f"{len(dirs)} runs written to {args.sweep} (run: cases/sweep.py run {args.sweep}; "
+              f"cluster: sbatch {args.sweep / 'sweep.slurm'})")
+        return 0
+    dirs = run_dirs(args.sweep)
+    if args.command == "status":
+        states = {d.name: state(d) for d in dirs}
+        for name, text in states.items():
+            print(f"{name:<24}{text}")
+        counts = {k: sum(v.startswith(k) for v in states.values()) for k in ("done", "running", "failed", "pending", "interrupted")}
+        print("  ".join(f"{k} {v}" for k, v in counts.items()))
+        return 0
+    unknown = set(args.only or ()) - {d.name for d in dirs}
+    if unknown:
+        parser.error(f"--only: no run named {', '.join(sorted(unknown))} in {args.sweep}")
+    failures = 0
+    for run_dir in dirs:
+        if args.only is not None and run_dir.name not in args.only:
+            continue
+        if state(run_dir) == "done":
+            print(f"{run_dir.name}: done, skipped")
+            continue
+        print(f"{run_dir.name}: running", flush=True)
+        status = subprocess.run([str(run_dir / "run.sh")], env=dict(os.environ)).returncode
+        print(f"{run_dir.name}: {'done' if status == 0 else f'failed (exit {status}), see run.out'}")
+        failures += status != 0
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,131 @@
+"""Short smoke versions of the granulator cases (demo scale): conveying direction and speed, mass
+conservation, no escaped or lost particles, outputs present and parseable, -var changes exactly
+the intended parameter, bad input stops with a clear message."""
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tsg_analysis.liggghts_log import parse_thermo
+from tsg_analysis.run_files import read_element_statistics, read_massflow, read_residence, read_zones
+
+ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+PYTHON = sys.executable
+LEAD = 0.025            # m, conveying lead S (seed paper Table 1)
+
+
+def run_case(case: str, out: Path, *variables: tuple[str, object], expect_ok: bool = True,
+             extra: tuple[str, ...] = ()) -> subprocess.CompletedProcess:
+    command = [PYTHON, str(ROOT / "cases" / "run_case.py"), case, "--scale", "demo", "--out", str(out), *extra]
+    for name, value in variables:
+        command += ["-v", name, str(value)]
+    proc = subprocess.run(command, capture_output=True, text=True, timeout=900)
+    if expect_ok:
+        assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return proc
+
+
+def parameters(log: str) -> dict[str, str]:
+    line = next(l for l in log.splitlines() if l.startswith("TSG-PARAMETERS"))
+    return dict(item.split("=", 1) for item in line.split()[1:])
+
+
+def conveying_axial_velocity(out: Path) -> float:
+    zones = read_zones(ROOT / "build" / "meshes" / "consigma1-periodic-20um" / "zones.txt")
+    stats = read_element_statistics(out / "elements.txt")
+    mass = stats.column("mass")
+    conveying = np.array([k == "conveying" for k in zones.kind])
+    weighted = (stats.column("mean_axial_velocity") * mass)[:, conveying].sum()
+    return weighted / mass[:, conveying].sum()
+
+
+@pytest.fixture(scope="module")
+def periodic_forward(tmp_path_factory):
+    out = tmp_path_factory.mktemp("periodic")
+    run_case("periodic", out, ("t_startup", 0.004), ("t_sample", 0.006), ("thermo_every", 500), ("stats_every", 500))
+    return out
+
+
+def test_periodic_conveys_downstream_at_a_plausible_speed(periodic_forward):
+    velocity = conveying_axial_velocity(periodic_forward)
+    # flights push towards +x; a particle cannot outrun the flight pattern, lead x speed = 0.25 m/s
+    assert 0.005 < velocity < LEAD * 600 / 60
+
+
+def test_periodic_reversed_rotation_conveys_upstream(tmp_path):
+    run_case("periodic", tmp_path, ("rpm", -600), ("t_startup", 0.004), ("t_sample", 0.006),
+             ("thermo_every", 500), ("stats_every", 500))
+    assert -LEAD * 600 / 60 < conveying_axial_velocity(tmp_path) < -0.005
+
+
+def test_periodic_conserves_mass_and_loses_nothing(periodic_forward):
+    log = (periodic_forward / "log.lammps").read_text()
+    fill = (periodic_forward / "fill.in").read_text()
+    count = int(re.search(r"variable fill_count equal (\d+)", fill).group(1))
+    for block in parse_thermo(log):
+        assert np.all(block["Atoms"] == count)
+        assert np.all(block["escaped"] == 0)
+    assert f"TSG-DONE escaped 0 particles {count}" in log
+    # the element masses tile the periodic domain: their sum is the particle mass at every sample
+    sets = re.findall(r"set atom (\d+)\*(\d+) diameter (\S+) density (\S+)", fill)
+    total = sum((int(b) - int(a) + 1) * float(rho) * np.pi / 6 * float(d) ** 3 for a, b, d, rho in sets)
+    stats = read_element_statistics(periodic_forward / "elements.txt")
+    # elements.txt prints 6 significant digits per zone (fix ave/time), so agreement to ~1e-6
+    np.testing.assert_allclose(stats.column("mass").sum(axis=1), total, rtol=5e-6)
+
+
+def test_periodic_outputs_are_present_and_parseable(periodic_forward):
+    flow = read_massflow(periodic_forward / "massflow.txt")
+    assert flow.flow.shape[1] == 2 and len(flow.flow) >= 2 and np.all(np.isfinite(flow.flow))
+    records = read_residence(periodic_forward / "residence.txt")
+    assert records.time_by_zone.shape[1] == 8
+    stats = read_element_statistics(periodic_forward / "elements.txt")
+    assert stats.values.shape[1] == 8
+    assert np.all((stats.column("solid_fraction") >= 0) & (stats.column("solid_fraction") < 0.74))
+
+
+def test_var_changes_the_intended_parameter_only(periodic_forward, tmp_path):
+    run_case("periodic", tmp_path, ("mus_pg", 0.1), ("t_startup", 1e-5), ("t_sample", 1e-5))
+    reference = parameters((periodic_forward / "log.lammps").read_text())
+    variant = parameters((tmp_path / "log.lammps").read_text())
+    changed = {k for k in reference if reference[k] != variant[k]} - {"thermo_every", "stats_every"}
+    assert changed == {"mus_pg"} and float(variant["mus_pg"]) == 0.1
+
+
+def test_nonperiodic_generates_cohesive_particles_without_losses(tmp_path):
+    run_case("nonperiodic", tmp_path, ("t_run", 0.002), ("thermo_every", 500), ("stats_every", 500))
+    log = (tmp_path / "log.lammps").read_text()
+    assert parameters(log)["cohesion"] == "1"
+    assert "pair_style gran model eepa" in (ROOT / "cases" / "include" / "pair_eepa.in").read_text()
+    inserted = int(re.search(r"inserted (\d+) particle templates", log).group(1))
+    thermo = parse_thermo(log)[-1]
+    assert inserted > 100 and thermo["Atoms"][-1] == inserted
+    assert np.all(thermo["escaped"] == 0)
+    read_residence(tmp_path / "residence.txt")
+
+
+@pytest.mark.parametrize("name,value,message", [
+    ("cohesion", 2, "cohesion = 2 is not allowed"),
+    ("psd_sigma", 0.3, "psd_s0.3.in"),
+])
+def test_bad_case_variable_is_a_clear_error(tmp_path, name, value, message):
+    proc = run_case("nonperiodic", tmp_path, (name, value), ("t_run", 1e-5), expect_ok=False)
+    assert proc.returncode == 1
+    assert message in proc.stderr + proc.stdout + (tmp_path / "log.lammps").read_text(errors="replace")
+
+
+def test_full_case_feeds_and_stops_clearly_without_steady_state(tmp_path):
+    # a start-up limit far too short for steady state: the window loop runs, particles are fed,
+    # and the run ends with an error that names the limit and both sensor flows
+    proc = run_case("full", tmp_path, ("t_max_startup", 0.0005), ("stats_every", 200), ("thermo_every", 100),
+                    expect_ok=False)
+    assert proc.returncode == 1
+    assert "no steady state by t =" in proc.stderr and "t_max_startup = 0.0005" in proc.stderr
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    assert int(re.search(r"inserted (\d+) particle templates", log).group(1)) > 100
+    assert parameters(log)["cohesion"] == "0"
+    assert not (tmp_path / "steady.restart").exists()
