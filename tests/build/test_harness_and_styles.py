@@ -17,6 +17,7 @@ STYLE_MACROS = {  # macro in our headers -> heading of its section in `lmp -h`
     "FixStyle": "Fix styles", "ComputeStyle": "Compute styles", "PairStyle": "Pair styles",
     "NORMAL_MODEL": "Normal models", "TANGENTIAL_MODEL": "Tangential models",
     "COHESION_MODEL": "Cohesion models", "ROLLING_MODEL": "Rolling models", "DumpStyle": "Dump styles",
+    "CommandStyle": "Command styles",
 }
 
 
