@@ -144,6 +144,13 @@ def main(argv: list[str] | None = None) -> int:
         (out / "feed.in").write_text(free_space.feed_include(corners, side, str(mesh_dir)))
         variables["feed_file"] = out / "feed.in"
         what = f"feed region of {len(corners)} cubes at x = {x0 * 1e3:.1f}-{(x0 + 0.028) * 1e3:.1f} mm"
+    # the run directory is self-describing for tsg_analysis: zones and screw surfaces next to the outputs
+    shutil.copyfile(mesh_dir / "zones.txt", out / "zones.txt")
+    (out / "meshes").mkdir(exist_ok=True)
+    for name in ("screw1.stl", "screw2.stl"):
+        link = out / "meshes" / name
+        link.unlink(missing_ok=True)
+        link.symlink_to(mesh_dir / name)
     variables.update({"case_dir": ROOT / "cases", "out_dir": out, "mesh_dir": mesh_dir,
                       "domain_length": repr(length)})
     if args.np > 1:

@@ -53,10 +53,12 @@ else
   apt_opts=(-o Dir::Etc::SourceList=/dev/null -o "Dir::Etc::SourceParts=$apt_dir/sources.list.d"
             -o "Dir::State::Lists=$apt_dir/lists" -o Debug::NoLocking=1 -o APT::Sandbox::User=root)
   step "updating the source-package index (private apt state in $apt_dir)"
-  apt-get "${apt_opts[@]}" update -qq >&2 \
-    || fail "apt-get update for deb-src failed: no network, or the mirror is unreachable. Re-run when online."
+  # apt-get update exits 0 even when every index failed to download: judge its messages
+  update_log=$(apt-get "${apt_opts[@]}" update 2>&1) && ! grep -qiE 'failed to (fetch|download)|could not' <<<"$update_log" \
+    || { printf '%s\n' "$update_log" | tail -n 3 >&2
+         fail "apt-get update for deb-src failed: no network, or the mirror is unreachable. Re-run when online."; }
   uri=$(apt-get "${apt_opts[@]}" source --print-uris liggghts 2>/dev/null \
-        | awk -v n="$tarball_name" '$2 == n { gsub("\047", "", $1); print $1 }')
+        | awk -v n="$tarball_name" '$2 == n { gsub("\047", "", $1); print $1 }') || true
   [ -n "$uri" ] || fail "Debian's source index does not list $tarball_name (package 'liggghts' missing from the configured suites?)"
   step "downloading $tarball_name"
   curl -fsSL --retry 3 -o "$tarball.part" "$uri" || fail "download of $tarball_name failed (network?). Re-run to resume."
