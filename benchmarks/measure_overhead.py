@@ -2,7 +2,7 @@
 ave/time, fix massflow/planes) on a granulator-sized run, measured side by side with and without them.
 
     .venv/bin/python benchmarks/measure_overhead.py [--lmp build/lmp] [--diameter 0.001] [--steps 1000]
-                                                    [--repeat 3] [--np 1]
+                                                    [--repeat 3] [--np 1] [--perf]
 
 The run is the periodic kneading-block domain of the seed paper (Sec. 2.3.3; consigma1-periodic:
 C7/6, 6 x 60 deg kneading, C7/6, 95.833 mm, periodic in x) without the screws: the twin-bore box
@@ -26,6 +26,8 @@ import math
 import os
 import re
 import resource
+import shutil
+import subprocess
 import statistics
 import sys
 import tempfile
@@ -115,6 +117,9 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=1000)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--np", type=int, default=1, help="MPI ranks")
+    parser.add_argument("--perf", action="store_true",
+                        help="also run 'all three' once under perf record and print the share of the samples "
+                             "in the measurement styles' own functions")
     args = parser.parse_args()
     os.environ["TSG_LMP"] = str(Path(args.lmp).resolve())
 
@@ -155,6 +160,33 @@ def main() -> None:
         for name in VARIANTS:
             print(f"{name:40s} {1e3 * best[name]:13.3f} {100 * (best[name] / best['without'] - 1):8.2f}% "
                   f"{1e3 * median[name]:15.3f} {100 * (median[name] / median['without'] - 1):8.2f}%")
+    if args.perf:
+        perf_share(text_vars, os.environ["TSG_LMP"])
+
+
+def perf_share(text_vars: dict, lmp: str) -> None:
+    """Runs 'all three' under `perf record` and prints the share of samples in our functions."""
+    if not shutil.which("perf"):
+        print("\nperf not found: no attribution")
+        return
+    ours = ("FixResidenceTime", "FixMassflowPlanes", "ComputeElementStats", "tsg::")
+    with tempfile.TemporaryDirectory(prefix="measure-perf-") as tmp:
+        Path(tmp, "in.all").write_text(TEMPLATE.format(measure=VARIANTS["all three"], **text_vars))
+        Path(tmp, "zones.txt").write_text(zones_text())
+        subprocess.run(["perf", "record", "-q", "-o", "perf.data", lmp, "-in", "in.all", "-echo", "none",
+                        "-log", "none"], cwd=tmp, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        report = subprocess.run(["perf", "report", "-i", "perf.data", "--no-children", "--stdio",
+                                 "--percent-limit", "0", "--sort", "symbol"], cwd=tmp, check=True,
+                                capture_output=True, text=True).stdout
+    total, lines = 0.0, []
+    for line in report.splitlines():
+        m = re.match(r"\s*([0-9.]+)%\s+\[\.\]\s+(.*)", line)
+        if m and any(key in m.group(2) for key in ours):
+            total += float(m.group(1))
+            lines.append(f"  {float(m.group(1)):6.2f}%  {m.group(2)[:90]}")
+    print("\nperf record of 'all three' (set-up, warm-up and timed run): samples in the styles' own code")
+    print("\n".join(lines))
+    print(f"  {total:6.2f}%  total")
 
 
 if __name__ == "__main__":
