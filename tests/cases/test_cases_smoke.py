@@ -143,3 +143,18 @@ def test_analysis_report_on_a_real_case_run(periodic_forward, tmp_path):
     missing = {item["part"] for item in summary["not_produced"]}
     # a 10 ms run has too few complete passes for an RTD and no dumps; the element profiles must be there
     assert "element profiles" not in missing and "zones" not in missing, summary["not_produced"]
+
+
+def test_full_case_steady_branch_writes_restart_and_holdup(tmp_path):
+    # the steady-state branch with a tolerance that any positive outflow meets and both sensors
+    # inside the feed zone, so the branch is reached in milliseconds: restart, hold-up summary,
+    # sampling window with element statistics
+    run_case("full", tmp_path, ("sensor_1", 0.004), ("sensor_2", 0.02), ("steady_tolerance", 1e6),
+             ("t_max_startup", 0.05), ("stats_every", 200), ("thermo_every", 100), ("t_sample", 0.0004))
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    steady = re.search(r"TSG-STEADY t (\S+) holdup (\S+)", log)
+    assert steady and float(steady.group(2)) > 0
+    assert (tmp_path / "steady.restart").stat().st_size > 0
+    mass, count, mfs1, mfs2 = (tmp_path / "holdup.txt").read_text().splitlines()[1].split()
+    assert float(mass) == pytest.approx(float(steady.group(2)), rel=1e-6) and int(count) > 0 and float(mfs2) > 0
+    assert read_element_statistics(tmp_path / "elements.txt").values.shape[1] == len(read_zones(tmp_path / "zones.txt"))
