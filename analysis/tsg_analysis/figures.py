@@ -69,9 +69,19 @@ def plot_rtd_comparison(path: Path, runs: list[tuple[str, dict[str, np.ndarray]]
     return _save(fig, path)
 
 
+def _nothing_to_plot(path: Path, message: str) -> Path:
+    """A figure that says why it is empty (e.g. no run reached steady state), instead of failing."""
+    fig, ax = plt.subplots(figsize=(6, 2))
+    ax.text(0.5, 0.5, message, ha="center", va="center", wrap=True)
+    ax.set_axis_off()
+    return _save(fig, path)
+
+
 def plot_profiles(path: Path, profiles: list[tuple[str, ElementProfile]]) -> Path:
     """Solid fraction, residence time, velocity magnitude and longitudinal velocity per element
     for one run or a family of runs (seed Figs. 9, 10, 12–16)."""
+    if not profiles:
+        return _nothing_to_plot(path, "no run has element profiles (see the report's 'Not produced')")
     positions = aligned_positions([profile.zones for _, profile in profiles])
     tick_labels: dict[int, str] = {}
     for (_, profile), where in zip(profiles, positions):
@@ -117,6 +127,8 @@ def plot_massflow_series(path: Path, label: str, record: MassFlowRecord, steady:
 
 def plot_massflow_variants(path: Path, rows: list[tuple[str, tuple[str, ...], np.ndarray, np.ndarray]]) -> Path:
     """Mean sensor flows over the steady window for each run (seed Fig. 18); bars: fluctuation."""
+    if not rows:
+        return _nothing_to_plot(path, "no run has steady sensor flows (see the report's 'Not produced')")
     fig, ax = plt.subplots(figsize=(max(5.0, 1.2 * len(rows) + 2), 4))
     most = max(len(names) for _, names, _, _ in rows)
     for k in range(most):

@@ -158,3 +158,17 @@ def test_full_case_steady_branch_writes_restart_and_holdup(tmp_path):
     mass, count, mfs1, mfs2 = (tmp_path / "holdup.txt").read_text().splitlines()[1].split()
     assert float(mass) == pytest.approx(float(steady.group(2)), rel=1e-6) and int(count) > 0 and float(mfs2) > 0
     assert read_element_statistics(tmp_path / "elements.txt").values.shape[1] == len(read_zones(tmp_path / "zones.txt"))
+
+
+@pytest.mark.parametrize("name", ["report", "element_profiles"])
+def test_notebook_executes_on_a_real_case_run(periodic_forward, tmp_path, name):
+    import nbformat
+    from nbclient import NotebookClient
+    notebooks = ROOT / "analysis" / "notebooks"
+    notebook = nbformat.read(notebooks / f"{name}.ipynb", as_version=4)
+    cell = next(c for c in notebook.cells if "parameters" in c.metadata.get("tags", []))
+    cell.source = f"RUN_DIRS = [{str(periodic_forward)!r}]\nOUT_DIR = {str(tmp_path)!r}"
+    NotebookClient(notebook, timeout=300, kernel_name="python3",
+                   resources={"metadata": {"path": str(notebooks)}}).execute()
+    errors = [o for c in notebook.cells if c.cell_type == "code" for o in c.outputs if o.output_type == "error"]
+    assert not errors, errors
