@@ -1,0 +1,666 @@
+// fix wall/gran/corotating: see fix_wall_gran_corotating.h and docs/rotating-screws.md.
+#include "fix_wall_gran_corotating.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "atom.h"
+#include "comm.h"
+#include "container.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_mesh_surface.h"
+#include "fix_wall_gran_base.h"
+#include "force.h"
+#include "memory.h"
+#include "neighbor.h"
+#include "tri_mesh.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+namespace rot = ::tsg::rotation;
+namespace tmesh = ::tsg::trimesh;
+
+namespace {
+constexpr int kValuesPerTriangle = 32;  // id, nodes 9, edge units 9, edge lengths 3, normal 3, obtuse, active 6
+constexpr int kLoadValues = 6;
+constexpr int kOutputsPerScrew = 7;  // load values and the angle
+// LIGGGHTS' coplanarity threshold for mesh faces (SurfaceMesh: 1 − EPSILON_CURVATURE)
+constexpr double kCoplanarCurvature = 1.0 - 1e-5;
+// a corotating screw must be (close to) symmetric about its axis: the area centroid of its surface
+// may lie at most this fraction of its largest radius from the axis
+constexpr double kAxisTolerance = 0.01;
+
+std::string number(double v) {
+  char buf[32];
+  snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+}  // namespace
+
+// The arguments of fix wall/gran end where the first keyword of this fix starts.
+int FixWallGranCorotating::wall_gran_arguments(int narg, char **arg)
+{
+  for (int i = 3; i < narg; ++i)
+    if (strcmp(arg[i], "corotate") == 0 || strcmp(arg[i], "max_contacts") == 0 || strcmp(arg[i], "screw_dump") == 0)
+      return i;
+  return narg;
+}
+
+FixWallGranCorotating::FixWallGranCorotating(LAMMPS *lmp, int narg, char **arg)
+    : FixWallGran(lmp, wall_gran_arguments(narg, arg), arg)
+{
+  if (!is_mesh_wall()) fail("needs mesh walls ('mesh n_meshes N meshes ...')");
+  parse_corotate(narg, arg, wall_gran_arguments(narg, arg));
+  for (int i = 0; i < n_FixMesh_; ++i) all_meshes_.push_back(FixMesh_list_[i]);
+  for (int i = 0; i < n_FixMesh_; ++i) {
+    bool rotating = false;
+    for (const Screw &s : screws_) rotating = rotating || s.list_index == i;
+    if (!rotating) static_meshes_.push_back(FixMesh_list_[i]);
+  }
+  int offset = 0;
+  for (Screw &s : screws_) s.key_offset = offset, offset += 1 << 26;  // room for 67 M triangles per screw
+  if (screws_.size() > 30) fail("at most 30 corotating meshes are supported");
+  load_all_.assign(kOutputsPerScrew * screws_.size(), 0.0);
+
+  history_size_ = dnum();
+  anchor_step_ = update->ntimestep;
+  anchor_dt_ = update->dt;
+
+  vector_flag = 1;
+  size_vector = kOutputsPerScrew * static_cast<int>(screws_.size());
+  global_freq = 1;
+  extvector = -1;  // forces and torques are extensive, angles are not
+  extensive_.assign(size_vector, 1);
+  for (int s = 0; s < static_cast<int>(screws_.size()); ++s) extensive_[kOutputsPerScrew * s + 6] = 0;
+  extlist = extensive_.data();
+  if (dump_every_ > 0) nevery = dump_every_;
+  restart_global = 1;
+  restart_peratom = 1;
+  create_attribute = 1;
+  grow_arrays(atom->nmax);
+  atom->add_callback(0);
+  atom->add_callback(1);
+  for (int i = 0; i < atom->nlocal; ++i) set_arrays(i);
+}
+
+FixWallGranCorotating::~FixWallGranCorotating()
+{
+  atom->delete_callback(id, 0);
+  atom->delete_callback(id, 1);
+  memory->destroy(contact_count_);
+  memory->destroy(contact_key_);
+  memory->destroy(contact_history_);
+  memory->destroy(contact_kept_);
+}
+
+void FixWallGranCorotating::fail(const std::string &message)
+{
+  error->all(FLERR, (std::string("fix ") + id + " wall/gran/corotating: " + message).c_str());
+  throw;  // not reached: error->all exits
+}
+
+void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
+{
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (key == "screw_dump") {
+      if (iarg + 3 > narg) fail("screw_dump needs: N prefix");
+      char *end = nullptr;
+      const long n = strtol(arg[iarg + 1], &end, 10);
+      if (*end != '\0' || n < 1) fail(std::string("screw_dump every = ") + arg[iarg + 1] + " is not allowed: an integer >= 1");
+      dump_every_ = static_cast<int>(n);
+      dump_prefix_ = arg[iarg + 2];
+      iarg += 3;
+      continue;
+    }
+    if (key == "max_contacts") {
+      if (iarg + 2 > narg) fail("max_contacts needs a value");
+      char *end = nullptr;
+      const long k = strtol(arg[iarg + 1], &end, 10);
+      if (*end != '\0' || k < 1 || k > 1000)
+        fail(std::string("max_contacts = ") + arg[iarg + 1] + " is not allowed: an integer from 1 to 1000");
+      max_contacts_ = static_cast<int>(k);
+      iarg += 2;
+      continue;
+    }
+    if (key != "corotate")
+      fail("unknown keyword '" + key + "' after the wall/gran arguments (allowed: corotate, max_contacts, screw_dump)");
+    if (iarg + 11 > narg)
+      fail("corotate needs: <mesh fix ID> origin x y z axis ax ay az period T");
+    Screw s;
+    s.mesh_id = arg[iarg + 1];
+    for (int i = 0; i < n_FixMesh_; ++i)
+      if (s.mesh_id == FixMesh_list_[i]->id) s.list_index = i;
+    if (s.list_index < 0) fail("corotate: mesh '" + s.mesh_id + "' is not one of the meshes of this wall");
+    for (const Screw &other : screws_)
+      if (other.list_index == s.list_index) fail("corotate: mesh '" + s.mesh_id + "' is named twice");
+    if (strcmp(arg[iarg + 2], "origin") || strcmp(arg[iarg + 6], "axis") || strcmp(arg[iarg + 10], "period"))
+      fail("corotate " + s.mesh_id + ": expected 'origin x y z axis ax ay az period T'");
+    auto value = [&](int k, const char *what) {
+      char *end = nullptr;
+      const double v = strtod(arg[k], &end);
+      if (*end != '\0' || !std::isfinite(v))
+        fail("corotate " + s.mesh_id + ": " + what + " = '" + arg[k] + "' is not a finite number");
+      return v;
+    };
+    s.motion.origin = {value(iarg + 3, "origin x"), value(iarg + 4, "origin y"), value(iarg + 5, "origin z")};
+    rot::Vec3 axis{value(iarg + 7, "axis x"), value(iarg + 8, "axis y"), value(iarg + 9, "axis z")};
+    const double length = rot::norm(axis);
+    if (!(length > 0.0)) fail("corotate " + s.mesh_id + ": the axis (0, 0, 0) has no direction");
+    s.motion.axis = (1.0 / length) * axis;
+    if (iarg + 12 > narg) fail("corotate " + s.mesh_id + ": period needs a value");
+    const double period = value(iarg + 11, "period");
+    if (period == 0.0)
+      fail("corotate " + s.mesh_id + ": period = 0 is not allowed (seconds per revolution, non-zero; "
+           "negative turns the other way)");
+    s.motion.omega = 2.0 * M_PI / period;  // as fix move/mesh rotate
+    screws_.push_back(s);
+    iarg += 12;
+  }
+  if (screws_.empty()) fail("no 'corotate' mesh given: use fix wall/gran for walls that do not turn");
+  if (track_energy_) fail("track_energy is not supported for corotating meshes");
+  if (store_force_contact_ || store_force_contact_stress_)
+    fail("store_force_contact and store_force_contact_stress are not supported for corotating meshes");
+}
+
+// FixWallGran creates a mesh neighbour list and a contact tracker for every mesh; a corotating
+// screw uses neither (both would cost per triangle), so they are removed again.
+void FixWallGranCorotating::post_create()
+{
+  FixWallGran::post_create();
+  for (const Screw &s : screws_) {
+    FixMesh_list_[s.list_index]->deleteWallNeighList();
+    FixMesh_list_[s.list_index]->deleteContactHistory();
+  }
+}
+
+void FixWallGranCorotating::init()
+{
+  FixWallGran::init();
+  for (const Screw &s : screws_) {
+    FixMeshSurface *mesh = all_meshes_[s.list_index];
+    if (mesh->mesh()->isMoving())
+      fail("mesh '" + s.mesh_id + "' is also moved by another fix (move/mesh); a corotating screw is turned "
+           "by this fix alone and must not be moved otherwise");
+    if (mesh->trackStress() || mesh->meshMulticontactData())
+      fail("mesh '" + s.mesh_id + "': stress tracking and multicontact are not supported for corotating meshes "
+           "(the screw's force and torque are this fix's output vector)");
+  }
+  if (cwl_) fail("compute wall/gran/local does not see corotating meshes");
+  // a new time step: re-anchor the clock so that the angle stays the integral of ω dt
+  if (update->dt != anchor_dt_) {
+    anchor_time_ += static_cast<double>(update->ntimestep - anchor_step_) * anchor_dt_;
+    anchor_step_ = update->ntimestep;
+    anchor_dt_ = update->dt;
+  }
+}
+
+double FixWallGranCorotating::elapsed_time() const
+{
+  return anchor_time_ + static_cast<double>(update->ntimestep - anchor_step_) * anchor_dt_;
+}
+
+// Every rank keeps the whole screw: a particle's lab position says nothing about where the part of
+// the screw it touches is stored, so the distributed mesh of fix mesh/surface cannot be used.
+void FixWallGranCorotating::gather_triangles(Screw &screw)
+{
+  TriMesh *mesh = all_meshes_[screw.list_index]->triMesh();
+  const int nowned = mesh->sizeLocal();
+  ScalarContainer<int> *obtuse = mesh->prop().getElementProperty<ScalarContainer<int> >("obtuseAngleIndex");
+  if (!obtuse) fail("mesh '" + screw.mesh_id + "' has no obtuse-angle data");
+  std::vector<double> mine(static_cast<size_t>(nowned) * kValuesPerTriangle);
+  for (int i = 0; i < nowned; ++i) {
+    double *v = &mine[static_cast<size_t>(i) * kValuesPerTriangle];
+    v[0] = mesh->id(i);
+    for (int k = 0; k < 3; ++k) {
+      mesh->node(i, k, v + 1 + 3 * k);
+      mesh->edgeVec(i, k, v + 10 + 3 * k);
+      v[28 + k] = (mesh->edgeActive(i, k) ? 1 : 0) + (mesh->cornerActive(i, k) ? 2 : 0);
+    }
+    mesh->edgeLen(i, v + 19);
+    mesh->surfaceNorm(i, v + 22);
+    v[25] = obtuse->get(i);
+  }
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < comm->nprocs; ++p) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<double> all(displs.back() + counts.back());
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+
+  const size_t ntri = all.size() / kValuesPerTriangle;
+  if (ntri == 0) fail("mesh '" + screw.mesh_id + "' has no triangles");
+  std::vector<size_t> order(ntri);
+  for (size_t t = 0; t < ntri; ++t) order[t] = t;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return all[a * kValuesPerTriangle] < all[b * kValuesPerTriangle]; });
+  screw.triangles.resize(ntri);
+  for (size_t t = 0; t < ntri; ++t) {
+    const double *v = &all[order[t] * kValuesPerTriangle];
+    tmesh::Triangle &tri = screw.triangles[t];
+    double centre[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) {
+        tri.node[k][d] = v[1 + 3 * k + d];
+        tri.edge_unit[k][d] = v[10 + 3 * k + d];
+        centre[d] += tri.node[k][d];
+      }
+    for (int d = 0; d < 3; ++d) centre[d] /= 3.0;
+    tri.bound_radius = 0.0;  // as MultiNodeMesh: largest node distance from the node average
+    for (int k = 0; k < 3; ++k) {
+      tri.edge_length[k] = v[19 + k];
+      tri.normal[k] = v[22 + k];
+      const int flags = static_cast<int>(v[28 + k]);
+      tri.edge_active[k] = flags & 1;
+      tri.corner_active[k] = flags & 2;
+      const double dx = centre[0] - tri.node[k][0], dy = centre[1] - tri.node[k][1], dz = centre[2] - tri.node[k][2];
+      tri.bound_radius = std::max(tri.bound_radius, std::sqrt(dx * dx + dy * dy + dz * dz));
+    }
+    tri.obtuse_corner = static_cast<int>(v[25]);
+  }
+  screw.precision = mesh->contactPrecision();
+  screw.coplanar = tmesh::coplanar_node_neighbours(screw.triangles, kCoplanarCurvature);
+}
+
+// The screw must turn about its own axis: the area centroid of its surface on the axis.
+void FixWallGranCorotating::check_shares_axis(const Screw &screw)
+{
+  const rot::RigidRotation &m = screw.motion;
+  double area_sum = 0.0, radius_max = 0.0;
+  rot::Vec3 moment{0, 0, 0};
+  for (const tmesh::Triangle &t : screw.triangles) {
+    rot::Vec3 n[3];
+    for (int k = 0; k < 3; ++k) n[k] = {t.node[k][0], t.node[k][1], t.node[k][2]};
+    const double area = 0.5 * rot::norm(rot::cross(n[1] - n[0], n[2] - n[0]));
+    const rot::Vec3 centre = (1.0 / 3.0) * (n[0] + n[1] + n[2]);
+    moment = moment + area * centre;
+    area_sum += area;
+    for (const rot::Vec3 &p : n) {
+      const rot::Vec3 r = p - m.origin;
+      radius_max = std::max(radius_max, rot::norm(r - rot::dot(r, m.axis) * m.axis));
+    }
+  }
+  const rot::Vec3 r = (1.0 / area_sum) * moment - m.origin;
+  const double offset = rot::norm(r - rot::dot(r, m.axis) * m.axis);
+  if (offset > kAxisTolerance * radius_max)
+    fail("mesh '" + screw.mesh_id + "' does not share the rotation axis: the area centroid of its surface lies " +
+         number(offset) + " m from the axis through (" + number(m.origin.x) + ", " + number(m.origin.y) + ", " +
+         number(m.origin.z) + ") along (" + number(m.axis.x) + ", " + number(m.axis.y) + ", " + number(m.axis.z) +
+         "); allowed is " + number(kAxisTolerance * radius_max) + " m (1 % of its largest radius " +
+         number(radius_max) + " m). A corotating screw turns about its own axis: check origin and axis.");
+}
+
+void FixWallGranCorotating::build_grids(double reach)
+{
+  for (Screw &s : screws_) {
+    try {
+      s.grid.build(s.triangles, reach, 2.0 * reach);
+    } catch (const std::exception &e) {
+      fail("mesh '" + s.mesh_id + "': " + e.what());
+    }
+  }
+}
+
+void FixWallGranCorotating::setup(int vflag)
+{
+  if (!triangles_gathered_) {
+    for (Screw &s : screws_) {
+      gather_triangles(s);
+      check_shares_axis(s);
+    }
+    triangles_gathered_ = true;
+  }
+  double rmax = 0.0;
+  for (int i = 0; i < atom->nlocal; ++i) rmax = std::max(rmax, atom->radius[i]);
+  double rmax_all = 0.0;
+  MPI_Allreduce(&rmax, &rmax_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (rmax_all <= 0.0) rmax_all = neighbor->skin;  // no particles yet: any positive reach; grown when needed
+  const double reach = rmax_all * std::max(1.0, neighbor->contactDistanceFactor) * (1.0 + 1e-6);
+  if (reach != screws_.front().grid.reach()) build_grids(reach);
+  FixWallGran::setup(vflag);
+  if (dump_every_ > 0 && update->ntimestep % dump_every_ == 0) write_screw_dumps();
+}
+
+int FixWallGranCorotating::setmask()
+{
+  int mask = FixWallGran::setmask();
+  if (dump_every_ > 0) mask |= END_OF_STEP;
+  return mask;
+}
+
+void FixWallGranCorotating::end_of_step()
+{
+  write_screw_dumps();
+}
+
+// Legacy VTK polydata of each screw in its pose at this step, written by rank 0 (every rank holds
+// the whole screw).
+void FixWallGranCorotating::write_screw_dumps()
+{
+  if (comm->me != 0) return;
+  const double time = elapsed_time();
+  for (const Screw &s : screws_) {
+    const std::string path =
+        dump_prefix_ + "_" + s.mesh_id + "_" + std::to_string(static_cast<long long>(update->ntimestep)) + ".vtk";
+    FILE *out = fopen(path.c_str(), "w");
+    if (!out) error->one(FLERR, (std::string("fix ") + id + " wall/gran/corotating: cannot write " + path).c_str());
+    const rot::Mat3 pose = rot::rotation_matrix(s.motion.axis, s.motion.angle(time));
+    const size_t n = s.triangles.size();
+    fprintf(out, "# vtk DataFile Version 2.0\n%s at step %lld, angle %.17g rad\nASCII\nDATASET POLYDATA\n",
+            s.mesh_id.c_str(), static_cast<long long>(update->ntimestep), s.motion.angle(time));
+    fprintf(out, "POINTS %zu double\n", 3 * n);
+    for (const tmesh::Triangle &t : s.triangles)
+      for (const auto &node : t.node) {
+        const rot::Vec3 body{node[0], node[1], node[2]};
+        const rot::Vec3 lab = s.motion.origin + pose.apply(body - s.motion.origin);
+        fprintf(out, "%.17g %.17g %.17g\n", lab.x, lab.y, lab.z);
+      }
+    fprintf(out, "POLYGONS %zu %zu\n", n, 4 * n);
+    for (size_t t = 0; t < n; ++t) fprintf(out, "3 %zu %zu %zu\n", 3 * t, 3 * t + 1, 3 * t + 2);
+    fclose(out);
+  }
+}
+
+// compute wall/gran/local: the static meshes only (init() refuses it when screws are present)
+void FixWallGranCorotating::post_force_pgl()
+{
+  FixWallGran::post_force_pgl();
+}
+
+void FixWallGranCorotating::post_force(int vflag)
+{
+  // the static meshes through the stock path of fix wall/gran
+  FixMeshSurface **all = FixMesh_list_;  // owned by FixWallGran
+  const int nall = n_FixMesh_;
+  FixMesh_list_ = static_meshes_.data();
+  n_FixMesh_ = static_cast<int>(static_meshes_.size());
+  FixWallGran::post_force(vflag);
+  FixMesh_list_ = all;
+  n_FixMesh_ = nall;
+
+  corotating_contacts();
+}
+
+void FixWallGranCorotating::corotating_contacts()
+{
+  const int nlocal = atom->nlocal;
+  double **x = atom->x, **f = atom->f, **torque = atom->torque;
+  const double *radius = atom->radius;
+  const int *mask = atom->mask;
+  const double touch_factor = neighbor->contactDistanceFactor - 1.0;  // contacts without overlap (cohesion)
+  const double time = elapsed_time();
+
+  // a larger particle than the grids were built for: grow the reach (every rank holds whole grids)
+  double rmax = 0.0;
+  for (int i = 0; i < nlocal; ++i) rmax = std::max(rmax, radius[i]);
+  const double reach_needed = rmax * std::max(1.0, neighbor->contactDistanceFactor);
+  if (reach_needed > screws_.front().grid.reach()) build_grids(reach_needed * 1.05);
+
+  // periodic images within reach of the box faces
+  const double reach = screws_.front().grid.reach();
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+
+  mark_all_contacts();
+  LIGGGHTS::ContactModels::SurfacesIntersectData sidata;
+  sidata.is_wall = true;
+  for (Screw &s : screws_) {
+    std::fill(s.load, s.load + kLoadValues, 0.0);
+    s.angle = s.motion.angle(time);
+    const rot::Mat3 pose = rot::rotation_matrix(s.motion.axis, s.angle);
+    atom_type_wall_ = all_meshes_[s.list_index]->atomTypeWall();
+    for (int i = 0; i < nlocal; ++i) {
+      if (!(mask[i] & groupbit)) continue;
+      // shifts to the periodic images that may touch the screw
+      double shifts[8][3];
+      int nshift = 1;
+      shifts[0][0] = shifts[0][1] = shifts[0][2] = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        if (!periodic[d]) continue;
+        double shift = 0.0;
+        if (x[i][d] - domain->boxlo[d] < reach) shift = domain->prd[d];
+        else if (domain->boxhi[d] - x[i][d] < reach) shift = -domain->prd[d];
+        if (shift == 0.0) continue;
+        for (int k = 0; k < nshift; ++k) {
+          std::copy(shifts[k], shifts[k] + 3, shifts[nshift + k]);
+          shifts[nshift + k][d] += shift;
+        }
+        nshift *= 2;
+      }
+      for (int k = 0; k < nshift; ++k) {
+        const rot::Vec3 lab{x[i][0] + shifts[k][0], x[i][1] + shifts[k][1], x[i][2] + shifts[k][2]};
+        const rot::Vec3 body = s.motion.to_body(pose, lab);
+        const double centre[3] = {body.x, body.y, body.z};
+        const auto range = s.grid.candidates(centre);
+        for (const int *it = range.first; it != range.second; ++it) {
+          const tmesh::Contact c = tmesh::closest_feature(s.triangles[*it], centre, s.precision);
+          if (c.feature == tmesh::Feature::none) continue;
+          const double deltan = c.distance - radius[i];
+          if (!(deltan <= 0.0 || deltan < touch_factor * radius[i])) continue;
+          const bool intersect = deltan <= 0.0;
+          bool accepted = false;
+          double *history = handle_contact(i, s, *it, intersect, c.feature == tmesh::Feature::face, accepted);
+          if (!accepted) continue;
+          const rot::Vec3 delta = rot::RigidRotation::vector_to_lab(pose, {c.delta[0], c.delta[1], c.delta[2]});
+          const rot::Vec3 contact_point = lab + delta;
+          const rot::Vec3 v_surface = s.motion.surface_velocity(contact_point);
+          double v_wall[3] = {v_surface.x, v_surface.y, v_surface.z};
+          sidata.i = i;
+          sidata.radi = radius[i];
+          sidata.deltan = -deltan;
+          sidata.delta[0] = -delta.x;
+          sidata.delta[1] = -delta.y;
+          sidata.delta[2] = -delta.z;
+          sidata.contact_history = history;
+          sidata.mesh = nullptr;
+          sidata.fix_mesh = all_meshes_[s.list_index];
+          const double f_before[3] = {f[i][0], f[i][1], f[i][2]};
+          const double t_before[3] = {torque[i][0], torque[i][1], torque[i][2]};
+          impl->compute_force(this, sidata, intersect, v_wall, nullptr, s.list_index, nullptr, *it);
+          // reaction on the screw: force −Δf, torque about the origin −[(x − p) × Δf + Δτ]
+          const rot::Vec3 df{f[i][0] - f_before[0], f[i][1] - f_before[1], f[i][2] - f_before[2]};
+          const rot::Vec3 dt{torque[i][0] - t_before[0], torque[i][1] - t_before[1], torque[i][2] - t_before[2]};
+          const rot::Vec3 moment = rot::cross(lab - s.motion.origin, df) + dt;
+          s.load[0] -= df.x, s.load[1] -= df.y, s.load[2] -= df.z;
+          s.load[3] -= moment.x, s.load[4] -= moment.y, s.load[5] -= moment.z;
+        }
+      }
+    }
+  }
+  clean_up_contacts();
+}
+
+// Contact bookkeeping as LIGGGHTS' mesh contact tracker: a known contact keeps its history; a new
+// face contact is skipped when a coplanar neighbour of the triangle already has this step's contact,
+// and otherwise inherits the history of a coplanar neighbour the particle touched before (sliding
+// over a flat region is one contact, not a string of new ones).
+double *FixWallGranCorotating::handle_contact(int i, const Screw &screw, int tri, bool intersect, bool face,
+                                              bool &accepted)
+{
+  (void)intersect;
+  const int key = screw.key_offset + tri;
+  int *keys = contact_key_[i];
+  for (int k = 0; k < max_contacts_; ++k)
+    if (keys[k] == key) {
+      contact_kept_[i][k] = 1;
+      accepted = true;
+      return history_size_ ? &contact_history_[i][k * history_size_] : nullptr;
+    }
+  auto is_coplanar_neighbour = [&](int other_key) {
+    const int other = other_key - screw.key_offset;
+    if (other < 0 || other >= static_cast<int>(screw.triangles.size())) return false;
+    return std::binary_search(screw.coplanar.begin(tri), screw.coplanar.end(tri), other);
+  };
+  if (face)
+    for (int k = 0; k < max_contacts_; ++k)
+      if (keys[k] >= 0 && contact_kept_[i][k] && is_coplanar_neighbour(keys[k])) {
+        accepted = false;
+        return nullptr;
+      }
+  int slot = -1;
+  for (int k = 0; k < max_contacts_ && slot < 0; ++k)
+    if (keys[k] < 0) slot = k;
+  if (slot < 0)
+    error->one(FLERR, (std::string("fix ") + id + " wall/gran/corotating: particle " +
+                       std::to_string(static_cast<long long>(atom->tag[i])) + " touches more than max_contacts = " +
+                       std::to_string(max_contacts_) + " screw triangles at once; raise max_contacts")
+                          .c_str());
+  keys[slot] = key;
+  contact_kept_[i][slot] = 1;
+  ++contact_count_[i];
+  double *history = history_size_ ? &contact_history_[i][slot * history_size_] : nullptr;
+  if (history) {
+    std::fill(history, history + history_size_, 0.0);
+    if (face)
+      for (int k = 0; k < max_contacts_; ++k)
+        if (k != slot && keys[k] >= 0 && is_coplanar_neighbour(keys[k]))
+          std::copy(&contact_history_[i][k * history_size_], &contact_history_[i][(k + 1) * history_size_], history);
+  }
+  accepted = true;
+  return history;
+}
+
+void FixWallGranCorotating::mark_all_contacts()
+{
+  for (int i = 0; i < atom->nlocal; ++i) std::fill(contact_kept_[i], contact_kept_[i] + max_contacts_, 0);
+}
+
+void FixWallGranCorotating::clean_up_contacts()
+{
+  for (int i = 0; i < atom->nlocal; ++i)
+    for (int k = 0; k < max_contacts_; ++k)
+      if (contact_key_[i][k] >= 0 && !contact_kept_[i][k]) {
+        contact_key_[i][k] = -1;
+        --contact_count_[i];
+        if (history_size_)
+          std::fill(&contact_history_[i][k * history_size_], &contact_history_[i][(k + 1) * history_size_], 0.0);
+      }
+}
+
+// [7 s + 0..2]: force on screw s (N); [7 s + 3..5]: torque on it about its origin (N m);
+// [7 s + 6]: its angle (rad)
+double FixWallGranCorotating::compute_vector(int n)
+{
+  if (load_step_ != update->ntimestep) {
+    std::vector<double> mine(kOutputsPerScrew * screws_.size(), 0.0);
+    for (size_t s = 0; s < screws_.size(); ++s)
+      std::copy(screws_[s].load, screws_[s].load + kLoadValues, &mine[kOutputsPerScrew * s]);
+    MPI_Allreduce(mine.data(), load_all_.data(), static_cast<int>(mine.size()), MPI_DOUBLE, MPI_SUM, world);
+    for (size_t s = 0; s < screws_.size(); ++s) load_all_[kOutputsPerScrew * s + 6] = screws_[s].angle;
+    load_step_ = update->ntimestep;
+  }
+  return load_all_[n];
+}
+
+// ---- per-particle contact history ------------------------------------------------------------------
+
+void FixWallGranCorotating::grow_arrays(int nmax)
+{
+  memory->grow(contact_count_, nmax, "wall/gran/corotating:count");
+  memory->grow(contact_key_, nmax, max_contacts_, "wall/gran/corotating:key");
+  memory->grow(contact_history_, nmax, std::max(1, max_contacts_ * history_size_), "wall/gran/corotating:history");
+  memory->grow(contact_kept_, nmax, max_contacts_, "wall/gran/corotating:kept");
+}
+
+void FixWallGranCorotating::copy_arrays(int i, int j, int)
+{
+  contact_count_[j] = contact_count_[i];
+  std::copy(contact_key_[i], contact_key_[i] + max_contacts_, contact_key_[j]);
+  std::copy(contact_kept_[i], contact_kept_[i] + max_contacts_, contact_kept_[j]);
+  std::copy(contact_history_[i], contact_history_[i] + max_contacts_ * history_size_, contact_history_[j]);
+}
+
+void FixWallGranCorotating::set_arrays(int i)
+{
+  contact_count_[i] = 0;
+  std::fill(contact_key_[i], contact_key_[i] + max_contacts_, -1);
+  std::fill(contact_kept_[i], contact_kept_[i] + max_contacts_, 0);
+  std::fill(contact_history_[i], contact_history_[i] + max_contacts_ * history_size_, 0.0);
+}
+
+// packed: count, then (key, history values) per contact
+int FixWallGranCorotating::pack_exchange(int i, double *buf)
+{
+  int m = 0;
+  buf[m++] = contact_count_[i];
+  for (int k = 0; k < max_contacts_; ++k)
+    if (contact_key_[i][k] >= 0) {
+      buf[m++] = contact_key_[i][k];
+      for (int h = 0; h < history_size_; ++h) buf[m++] = contact_history_[i][k * history_size_ + h];
+    }
+  return m;
+}
+
+int FixWallGranCorotating::unpack_exchange(int nlocal, double *buf)
+{
+  set_arrays(nlocal);
+  int m = 0;
+  const int count = static_cast<int>(buf[m++]);
+  for (int k = 0; k < count; ++k) {
+    contact_key_[nlocal][k] = static_cast<int>(buf[m++]);
+    for (int h = 0; h < history_size_; ++h) contact_history_[nlocal][k * history_size_ + h] = buf[m++];
+  }
+  contact_count_[nlocal] = count;
+  return m;
+}
+
+int FixWallGranCorotating::pack_restart(int i, double *buf)
+{
+  const int m = pack_exchange(i, buf + 1);
+  buf[0] = m + 1;
+  return m + 1;
+}
+
+void FixWallGranCorotating::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
+  const int count = static_cast<int>(extra[nlocal][m + 1]);
+  if (count > max_contacts_)
+    error->one(FLERR, (std::string("fix ") + id + " wall/gran/corotating: the restart file holds " +
+                       std::to_string(count) + " screw contacts for a particle, more than max_contacts = " +
+                       std::to_string(max_contacts_))
+                          .c_str());
+  unpack_exchange(nlocal, &extra[nlocal][m + 1]);
+}
+
+int FixWallGranCorotating::size_restart(int nlocal) { return 2 + contact_count_[nlocal] * (1 + history_size_); }
+
+int FixWallGranCorotating::maxsize_restart() { return 2 + max_contacts_ * (1 + history_size_); }
+
+// global: the elapsed time (the screws' phase) and the history layout
+void FixWallGranCorotating::write_restart(FILE *fp)
+{
+  double list[4] = {elapsed_time(), static_cast<double>(update->ntimestep), static_cast<double>(history_size_),
+                    static_cast<double>(screws_.size())};
+  if (comm->me == 0) {
+    int size = static_cast<int>(sizeof list);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), 4, fp);
+  }
+}
+
+void FixWallGranCorotating::restart(char *buf)
+{
+  const double *list = reinterpret_cast<const double *>(buf);
+  if (static_cast<int>(list[2]) != history_size_ || static_cast<size_t>(list[3]) != screws_.size())
+    fail("the restart file was written with " + number(list[3]) + " corotating meshes and " + number(list[2]) +
+         " history values per contact; this input has " + std::to_string(screws_.size()) + " and " +
+         std::to_string(history_size_));
+  anchor_time_ = list[0];
+  anchor_step_ = static_cast<bigint>(list[1]);
+}
+
+double FixWallGranCorotating::memory_usage()
+{
+  double bytes = static_cast<double>(atom->nmax) * max_contacts_ * (sizeof(int) + sizeof(char) + history_size_ * sizeof(double));
+  for (const Screw &s : screws_)
+    bytes += s.triangles.size() * sizeof(tmesh::Triangle) + s.grid.memory_bytes() +
+             s.coplanar.items.size() * sizeof(int) + s.coplanar.offsets.size() * sizeof(std::int64_t);
+  return bytes;
+}

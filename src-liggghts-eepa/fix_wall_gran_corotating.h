@@ -1,0 +1,119 @@
+// fix wall/gran/corotating: fix wall/gran whose screw meshes turn rigidly about their own axes
+// without ever being moved. Contacts with a screw are found in the screw's own frame, where the mesh
+// is at rest, with a static triangle grid; the contact geometry is rotated back to the lab frame and
+// evaluated by the same granular wall model as fix wall/gran, with the surface velocity ω × r of the
+// turning screw. The per-step cost therefore follows the particles near a screw, not its triangle
+// count. Meshes not named after `corotate` are handled exactly as by fix wall/gran.
+//
+//   fix ID group wall/gran/corotating <fix wall/gran arguments> &
+//       corotate <mesh fix ID> origin x y z axis ax ay az period T [corotate ...] &
+//       [max_contacts K] [screw_dump N prefix]
+//
+// Output vector, 7 values per corotating mesh s (in the order given): force on the screw (N, 3),
+// torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
+// screw_dump writes each screw in its current pose every N steps as legacy VTK,
+// <prefix>_<mesh ID>_<step>.vtk (rank 0).
+//
+// Design and measurements: docs/rotating-screws.md.
+#ifdef FIX_CLASS
+
+FixStyle(wall/gran/corotating, FixWallGranCorotating)
+
+#else
+
+#ifndef LMP_FIX_WALL_GRAN_COROTATING_H
+#define LMP_FIX_WALL_GRAN_COROTATING_H
+
+#include <string>
+#include <vector>
+
+#include "fix_wall_gran.h"
+#include "physics/rigid_rotation.h"
+#include "physics/triangle_contact.h"
+#include "physics/triangle_lookup.h"
+
+namespace LAMMPS_NS {
+
+class FixWallGranCorotating : public FixWallGran {
+ public:
+  FixWallGranCorotating(class LAMMPS *, int, char **);
+  ~FixWallGranCorotating() override;
+
+  void post_create() override;
+  void init() override;
+  void setup(int vflag) override;
+  int setmask() override;
+  void post_force(int vflag) override;
+  void end_of_step() override;
+  void post_force_pgl() override;
+  double compute_vector(int n) override;
+
+  void grow_arrays(int nmax) override;
+  void copy_arrays(int i, int j, int delflag) override;
+  void set_arrays(int i) override;
+  int pack_exchange(int i, double *buf) override;
+  int unpack_exchange(int nlocal, double *buf) override;
+  int pack_restart(int i, double *buf) override;
+  void unpack_restart(int nlocal, int nth) override;
+  int size_restart(int nlocal) override;
+  int maxsize_restart() override;
+  void write_restart(FILE *fp) override;
+  void restart(char *buf) override;
+  double memory_usage() override;
+
+ private:
+  struct Screw {
+    std::string mesh_id;
+    int list_index = -1;                  // position in FixMesh_list_
+    tsg::rotation::RigidRotation motion;  // axis through origin, angular speed
+    std::vector<tsg::trimesh::Triangle> triangles;  // in the screw's own frame (as given), sorted by mesh id
+    tsg::trimesh::TriangleGrid grid;
+    tsg::trimesh::CompressedLists coplanar;
+    double precision = 0.0;  // the mesh's precision (fix mesh/surface)
+    int key_offset = 0;      // contact keys of this screw: key_offset + triangle index
+    double load[6] = {0, 0, 0, 0, 0, 0};  // force on the screw and torque about its origin, this rank
+    double angle = 0.0;                   // θ at the last force evaluation
+  };
+
+  static int wall_gran_arguments(int narg, char **arg);
+  void parse_corotate(int narg, char **arg, int first);
+  [[noreturn]] void fail(const std::string &message);
+  void gather_triangles(Screw &screw);
+  void check_shares_axis(const Screw &screw);
+  void build_grids(double reach);
+  double elapsed_time() const;
+  void corotating_contacts();
+  void write_screw_dumps();
+  double *handle_contact(int i, const Screw &screw, int tri, bool intersect, bool face, bool &accepted);
+  void mark_all_contacts();
+  void clean_up_contacts();
+
+  std::vector<Screw> screws_;
+  std::vector<class FixMeshSurface *> all_meshes_, static_meshes_;
+  bool triangles_gathered_ = false;
+
+  // the angle comes from the time elapsed since the fix was created: anchor + (step − anchor_step) dt
+  double anchor_time_ = 0.0;
+  bigint anchor_step_ = 0;
+  double anchor_dt_ = 0.0;
+
+  // contact history with screw triangles, per particle: up to max_contacts_ slots of
+  // (key, dnum values); keys < 0 are free slots
+  int max_contacts_ = 16;
+  int dump_every_ = 0;
+  std::string dump_prefix_;
+  std::vector<int> extensive_;
+  int history_size_ = 0;
+  int *contact_count_ = nullptr;
+  int **contact_key_ = nullptr;
+  double **contact_history_ = nullptr;
+  char **contact_kept_ = nullptr;
+
+  std::vector<double> load_all_;
+  bigint load_step_ = -1;
+};
+
+}  // namespace LAMMPS_NS
+
+#endif
+#endif
