@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 
 #include "atom.h"
 #include "comm.h"
@@ -112,7 +113,8 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
       if (iarg + 3 > narg) fail("screw_dump needs: N prefix");
       char *end = nullptr;
       const long n = strtol(arg[iarg + 1], &end, 10);
-      if (*end != '\0' || n < 1) fail(std::string("screw_dump every = ") + arg[iarg + 1] + " is not allowed: an integer >= 1");
+      if (*end != '\0' || n < 0)
+        fail(std::string("screw_dump every = ") + arg[iarg + 1] + " is not allowed: an integer >= 0 (0: no dumps)");
       dump_every_ = static_cast<int>(n);
       dump_prefix_ = arg[iarg + 2];
       iarg += 3;
@@ -347,6 +349,9 @@ void FixWallGranCorotating::write_screw_dumps()
   for (const Screw &s : screws_) {
     const std::string path =
         dump_prefix_ + "_" + s.mesh_id + "_" + std::to_string(static_cast<long long>(update->ntimestep)) + ".vtk";
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    std::error_code ignored;  // fopen reports the failure that matters
+    if (!parent.empty()) std::filesystem::create_directories(parent, ignored);
     FILE *out = fopen(path.c_str(), "w");
     if (!out) error->one(FLERR, (std::string("fix ") + id + " wall/gran/corotating: cannot write " + path).c_str());
     const rot::Mat3 pose = rot::rotation_matrix(s.motion.axis, s.motion.angle(time));

@@ -12,7 +12,7 @@
 // Output vector, 7 values per corotating mesh s (in the order given): force on the screw (N, 3),
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
 // screw_dump writes each screw in its current pose every N steps as legacy VTK,
-// <prefix>_<mesh ID>_<step>.vtk (rank 0).
+// <prefix>_<mesh ID>_<step>.vtk (rank 0); N = 0 writes none.
 //
 // Design and measurements: docs/rotating-screws.md.
 #ifdef FIX_CLASS

@@ -111,6 +111,7 @@ def test_nonperiodic_generates_cohesive_particles_without_losses(tmp_path):
 @pytest.mark.parametrize("name,value,message", [
     ("cohesion", 2, "cohesion = 2 is not allowed"),
     ("psd_sigma", 0.3, "psd_s0.3.in"),
+    ("screw_drive", "spin", "screws_spin.in"),
 ])
 def test_bad_case_variable_is_a_clear_error(tmp_path, name, value, message):
     proc = run_case("nonperiodic", tmp_path, (name, value), ("t_run", 1e-5), expect_ok=False)

@@ -86,6 +86,7 @@ def run_paths(workdir: Path, drive: str, mesh_dir: Path, atoms: str, *, periodic
         "xlo": 0.0 if periodic else -0.001, "xhi": PERIODIC_LENGTH if periodic else 0.047,
         "xbound": "p" if periodic else "f", "vx": velocity[0], "vy": velocity[1], "vz": velocity[2], "dt": 2e-6,
         "period": period, "nsteps": nsteps, "restart_every": restart_every, "out": workdir / "forces.dump",
+        "dump_every": 1,
     }
     run = run_lmp((INPUTS / "in.corotating_paths").read_text(), workdir, nprocs=nprocs, variables=variables,
                   expect_error=expect_error, timeout=900)
