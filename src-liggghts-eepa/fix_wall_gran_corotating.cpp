@@ -47,7 +47,8 @@ std::string number(double v) {
 int FixWallGranCorotating::wall_gran_arguments(int narg, char **arg)
 {
   for (int i = 3; i < narg; ++i)
-    if (strcmp(arg[i], "corotate") == 0 || strcmp(arg[i], "max_contacts") == 0 || strcmp(arg[i], "screw_dump") == 0)
+    if (strcmp(arg[i], "corotate") == 0 || strcmp(arg[i], "fixed") == 0 || strcmp(arg[i], "max_contacts") == 0 ||
+        strcmp(arg[i], "screw_dump") == 0)
       return i;
   return narg;
 }
@@ -105,6 +106,16 @@ void FixWallGranCorotating::fail(const std::string &message)
   throw;  // not reached: error->all exits
 }
 
+void FixWallGranCorotating::add_mesh(Screw screw)
+{
+  for (int i = 0; i < n_FixMesh_; ++i)
+    if (screw.mesh_id == FixMesh_list_[i]->id) screw.list_index = i;
+  if (screw.list_index < 0) fail("mesh '" + screw.mesh_id + "' is not one of the meshes of this wall");
+  for (const Screw &other : screws_)
+    if (other.list_index == screw.list_index) fail("mesh '" + screw.mesh_id + "' is named twice");
+  screws_.push_back(screw);
+}
+
 void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
 {
   while (iarg < narg) {
@@ -130,17 +141,23 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
       iarg += 2;
       continue;
     }
+    if (key == "fixed") {
+      if (iarg + 2 > narg) fail("fixed needs a mesh fix ID");
+      Screw s;
+      s.mesh_id = arg[iarg + 1];
+      s.turning = false;
+      s.motion = {{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, 0.0};
+      add_mesh(s);
+      iarg += 2;
+      continue;
+    }
     if (key != "corotate")
-      fail("unknown keyword '" + key + "' after the wall/gran arguments (allowed: corotate, max_contacts, screw_dump)");
+      fail("unknown keyword '" + key + "' after the wall/gran arguments (allowed: corotate, fixed, max_contacts, "
+           "screw_dump)");
     if (iarg + 11 > narg)
       fail("corotate needs: <mesh fix ID> origin x y z axis ax ay az period T");
     Screw s;
     s.mesh_id = arg[iarg + 1];
-    for (int i = 0; i < n_FixMesh_; ++i)
-      if (s.mesh_id == FixMesh_list_[i]->id) s.list_index = i;
-    if (s.list_index < 0) fail("corotate: mesh '" + s.mesh_id + "' is not one of the meshes of this wall");
-    for (const Screw &other : screws_)
-      if (other.list_index == s.list_index) fail("corotate: mesh '" + s.mesh_id + "' is named twice");
     if (strcmp(arg[iarg + 2], "origin") || strcmp(arg[iarg + 6], "axis") || strcmp(arg[iarg + 10], "period"))
       fail("corotate " + s.mesh_id + ": expected 'origin x y z axis ax ay az period T'");
     auto value = [&](int k, const char *what) {
@@ -161,10 +178,12 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
       fail("corotate " + s.mesh_id + ": period = 0 is not allowed (seconds per revolution, non-zero; "
            "negative turns the other way)");
     s.motion.omega = 2.0 * M_PI / period;  // as fix move/mesh rotate
-    screws_.push_back(s);
+    add_mesh(s);
     iarg += 12;
   }
-  if (screws_.empty()) fail("no 'corotate' mesh given: use fix wall/gran for walls that do not turn");
+  bool any_turning = false;
+  for (const Screw &s : screws_) any_turning = any_turning || s.turning;
+  if (!any_turning) fail("no 'corotate' mesh given: use fix wall/gran for walls that do not turn");
   if (track_energy_) fail("track_energy is not supported for corotating meshes");
   if (store_force_contact_ || store_force_contact_stress_)
     fail("store_force_contact and store_force_contact_stress are not supported for corotating meshes");
@@ -297,33 +316,16 @@ void FixWallGranCorotating::check_shares_axis(const Screw &screw)
          number(radius_max) + " m). A corotating screw turns about its own axis: check origin and axis.");
 }
 
-void FixWallGranCorotating::build_grids(double reach)
-{
-  for (Screw &s : screws_) {
-    try {
-      s.grid.build(s.triangles, reach, 2.0 * reach);
-    } catch (const std::exception &e) {
-      fail("mesh '" + s.mesh_id + "': " + e.what());
-    }
-  }
-}
-
 void FixWallGranCorotating::setup(int vflag)
 {
   if (!triangles_gathered_) {
     for (Screw &s : screws_) {
       gather_triangles(s);
-      check_shares_axis(s);
+      if (s.turning) check_shares_axis(s);
+      s.tree.build(s.triangles);
     }
     triangles_gathered_ = true;
   }
-  double rmax = 0.0;
-  for (int i = 0; i < atom->nlocal; ++i) rmax = std::max(rmax, atom->radius[i]);
-  double rmax_all = 0.0;
-  MPI_Allreduce(&rmax, &rmax_all, 1, MPI_DOUBLE, MPI_MAX, world);
-  if (rmax_all <= 0.0) rmax_all = neighbor->skin;  // no particles yet: any positive reach; grown when needed
-  const double reach = rmax_all * std::max(1.0, neighbor->contactDistanceFactor) * (1.0 + 1e-6);
-  if (reach != screws_.front().grid.reach()) build_grids(reach);
   FixWallGran::setup(vflag);
   if (dump_every_ > 0 && update->ntimestep % dump_every_ == 0) write_screw_dumps();
 }
@@ -391,6 +393,63 @@ void FixWallGranCorotating::post_force(int vflag)
   corotating_contacts();
 }
 
+// Atoms are exchanged and reordered at re-neighbouring: the candidate lists are rebuilt after it.
+void FixWallGranCorotating::pre_neighbor()
+{
+  FixWallGran::pre_neighbor();
+  candidates_valid_ = false;
+}
+
+// Candidates of particle i: the triangles of every screw whose bounding sphere comes within reach +
+// skin of the particle or of a periodic image of it within that distance of a box face.
+void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3> &poses)
+{
+  const double *xi = atom->x[i];
+  const double reach = atom->radius[i] * std::max(1.0, neighbor->contactDistanceFactor) + neighbor->skin;
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  // images: -1, 0, +1 box lengths per periodic direction within reach of a face
+  signed char images[8][3] = {{0, 0, 0}};
+  int nimage = 1;
+  for (int d = 0; d < 3; ++d) {
+    if (!periodic[d]) continue;
+    signed char shift = 0;
+    if (xi[d] - domain->boxlo[d] < reach) shift = 1;
+    else if (domain->boxhi[d] - xi[d] < reach) shift = -1;
+    if (shift == 0) continue;
+    for (int k = 0; k < nimage; ++k) {
+      std::copy(images[k], images[k] + 3, images[nimage + k]);
+      images[nimage + k][d] = shift;
+    }
+    nimage *= 2;
+  }
+  std::vector<Candidate> &list = candidates_[i];
+  list.clear();
+  double *built = &built_at_[static_cast<size_t>(i) * (3 + 3 * screws_.size())];
+  std::copy(xi, xi + 3, built);
+  for (size_t s = 0; s < screws_.size(); ++s) {
+    const Screw &screw = screws_[s];
+    const rot::Vec3 body = screw.motion.to_body(poses[s], {xi[0], xi[1], xi[2]});
+    built[3 + 3 * s] = body.x, built[4 + 3 * s] = body.y, built[5 + 3 * s] = body.z;
+    for (int k = 0; k < nimage; ++k) {
+      const rot::Vec3 lab{xi[0] + images[k][0] * domain->prd[0], xi[1] + images[k][1] * domain->prd[1],
+                          xi[2] + images[k][2] * domain->prd[2]};
+      const rot::Vec3 image_body = screw.motion.to_body(poses[s], lab);
+      const double centre[3] = {image_body.x, image_body.y, image_body.z};
+      screw.tree.for_each_near(centre, reach, [&](int tri) {
+        list.push_back({static_cast<int>(s), tri, {images[k][0], images[k][1], images[k][2]}});
+      });
+    }
+  }
+  // the order of fix wall/gran: mesh by mesh as listed, triangles by index (which contact of two
+  // coplanar ones is kept depends on it)
+  std::sort(list.begin(), list.end(), [&](const Candidate &a, const Candidate &b) {
+    const int la = screws_[a.screw].list_index, lb = screws_[b.screw].list_index;
+    if (la != lb) return la < lb;
+    if (a.triangle != b.triangle) return a.triangle < b.triangle;
+    return std::lexicographical_compare(a.image, a.image + 3, b.image, b.image + 3);
+  });
+}
+
 void FixWallGranCorotating::corotating_contacts()
 {
   const int nlocal = atom->nlocal;
@@ -399,81 +458,92 @@ void FixWallGranCorotating::corotating_contacts()
   const int *mask = atom->mask;
   const double touch_factor = neighbor->contactDistanceFactor - 1.0;  // contacts without overlap (cohesion)
   const double time = elapsed_time();
+  const double half_skin2 = 0.25 * neighbor->skin * neighbor->skin;
+  const size_t nscrews = screws_.size();
+  const size_t stride = 3 + 3 * nscrews;
 
-  // a larger particle than the grids were built for: grow the reach (every rank holds whole grids)
-  double rmax = 0.0;
-  for (int i = 0; i < nlocal; ++i) rmax = std::max(rmax, radius[i]);
-  const double reach_needed = rmax * std::max(1.0, neighbor->contactDistanceFactor);
-  if (reach_needed > screws_.front().grid.reach()) build_grids(reach_needed * 1.05);
-
-  // periodic images within reach of the box faces
-  const double reach = screws_.front().grid.reach();
-  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  std::vector<rot::Mat3> poses(nscrews);
+  for (size_t s = 0; s < nscrews; ++s) {
+    Screw &screw = screws_[s];
+    std::fill(screw.load, screw.load + kLoadValues, 0.0);
+    screw.angle = screw.motion.angle(time);
+    poses[s] = rot::rotation_matrix(screw.motion.axis, screw.angle);
+  }
+  if (!candidates_valid_ || static_cast<int>(candidates_.size()) != nlocal) {
+    candidates_.assign(nlocal, {});
+    built_at_.assign(static_cast<size_t>(nlocal) * stride, 0.0);
+    for (int i = 0; i < nlocal; ++i)
+      if (mask[i] & groupbit) build_candidates(i, poses);
+    candidates_valid_ = true;
+  }
 
   mark_all_contacts();
   LIGGGHTS::ContactModels::SurfacesIntersectData sidata;
   sidata.is_wall = true;
-  for (Screw &s : screws_) {
-    std::fill(s.load, s.load + kLoadValues, 0.0);
-    s.angle = s.motion.angle(time);
-    const rot::Mat3 pose = rot::rotation_matrix(s.motion.axis, s.angle);
-    atom_type_wall_ = all_meshes_[s.list_index]->atomTypeWall();
-    for (int i = 0; i < nlocal; ++i) {
-      if (!(mask[i] & groupbit)) continue;
-      // shifts to the periodic images that may touch the screw
-      double shifts[8][3];
-      int nshift = 1;
-      shifts[0][0] = shifts[0][1] = shifts[0][2] = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        if (!periodic[d]) continue;
-        double shift = 0.0;
-        if (x[i][d] - domain->boxlo[d] < reach) shift = domain->prd[d];
-        else if (domain->boxhi[d] - x[i][d] < reach) shift = -domain->prd[d];
-        if (shift == 0.0) continue;
-        for (int k = 0; k < nshift; ++k) {
-          std::copy(shifts[k], shifts[k] + 3, shifts[nshift + k]);
-          shifts[nshift + k][d] += shift;
-        }
-        nshift *= 2;
+  for (int i = 0; i < nlocal; ++i) {
+    if (!(mask[i] & groupbit)) continue;
+    // half a skin away from where the list was built, in the lab or in a screw's frame: rebuild
+    const double *built = &built_at_[static_cast<size_t>(i) * stride];
+    auto moved2 = [](const double *a, const rot::Vec3 &b) {
+      const double dx = a[0] - b.x, dy = a[1] - b.y, dz = a[2] - b.z;
+      return dx * dx + dy * dy + dz * dz;
+    };
+    bool stale = moved2(built, {x[i][0], x[i][1], x[i][2]}) > half_skin2;
+    for (size_t s = 0; s < nscrews && !stale; ++s)
+      stale = moved2(built + 3 + 3 * s, screws_[s].motion.to_body(poses[s], {x[i][0], x[i][1], x[i][2]})) > half_skin2;
+    if (stale) build_candidates(i, poses);
+    const double reach = radius[i] * std::max(1.0, neighbor->contactDistanceFactor);
+
+    int current_screw = -1;
+    signed char current_image[3] = {0, 0, 0};
+    rot::Vec3 lab{0, 0, 0};
+    double centre[3] = {0, 0, 0};
+    for (const Candidate &cand : candidates_[i]) {
+      Screw &s = screws_[cand.screw];
+      if (cand.screw != current_screw || !std::equal(cand.image, cand.image + 3, current_image)) {
+        current_screw = cand.screw;
+        std::copy(cand.image, cand.image + 3, current_image);
+        lab = {x[i][0] + cand.image[0] * domain->prd[0], x[i][1] + cand.image[1] * domain->prd[1],
+               x[i][2] + cand.image[2] * domain->prd[2]};
+        const rot::Vec3 body = s.motion.to_body(poses[cand.screw], lab);
+        centre[0] = body.x, centre[1] = body.y, centre[2] = body.z;
       }
-      for (int k = 0; k < nshift; ++k) {
-        const rot::Vec3 lab{x[i][0] + shifts[k][0], x[i][1] + shifts[k][1], x[i][2] + shifts[k][2]};
-        const rot::Vec3 body = s.motion.to_body(pose, lab);
-        const double centre[3] = {body.x, body.y, body.z};
-        const auto range = s.grid.candidates(centre);
-        for (const int *it = range.first; it != range.second; ++it) {
-          const tmesh::Contact c = tmesh::closest_feature(s.triangles[*it], centre, s.precision);
-          if (c.feature == tmesh::Feature::none) continue;
-          const double deltan = c.distance - radius[i];
-          if (!(deltan <= 0.0 || deltan < touch_factor * radius[i])) continue;
-          const bool intersect = deltan <= 0.0;
-          bool accepted = false;
-          double *history = handle_contact(i, s, *it, intersect, c.feature == tmesh::Feature::face, accepted);
-          if (!accepted) continue;
-          const rot::Vec3 delta = rot::RigidRotation::vector_to_lab(pose, {c.delta[0], c.delta[1], c.delta[2]});
-          const rot::Vec3 contact_point = lab + delta;
-          const rot::Vec3 v_surface = s.motion.surface_velocity(contact_point);
-          double v_wall[3] = {v_surface.x, v_surface.y, v_surface.z};
-          sidata.i = i;
-          sidata.radi = radius[i];
-          sidata.deltan = -deltan;
-          sidata.delta[0] = -delta.x;
-          sidata.delta[1] = -delta.y;
-          sidata.delta[2] = -delta.z;
-          sidata.contact_history = history;
-          sidata.mesh = nullptr;
-          sidata.fix_mesh = all_meshes_[s.list_index];
-          const double f_before[3] = {f[i][0], f[i][1], f[i][2]};
-          const double t_before[3] = {torque[i][0], torque[i][1], torque[i][2]};
-          impl->compute_force(this, sidata, intersect, v_wall, nullptr, s.list_index, nullptr, *it);
-          // reaction on the screw: force −Δf, torque about the origin −[(x − p) × Δf + Δτ]
-          const rot::Vec3 df{f[i][0] - f_before[0], f[i][1] - f_before[1], f[i][2] - f_before[2]};
-          const rot::Vec3 dt{torque[i][0] - t_before[0], torque[i][1] - t_before[1], torque[i][2] - t_before[2]};
-          const rot::Vec3 moment = rot::cross(lab - s.motion.origin, df) + dt;
-          s.load[0] -= df.x, s.load[1] -= df.y, s.load[2] -= df.z;
-          s.load[3] -= moment.x, s.load[4] -= moment.y, s.load[5] -= moment.z;
-        }
-      }
+      // the list was built with reach + skin: most candidates are out of reach now
+      const double *sphere = s.tree.bounding_sphere(cand.triangle);
+      const double gx = centre[0] - sphere[0], gy = centre[1] - sphere[1], gz = centre[2] - sphere[2];
+      const double limit = reach + sphere[3];
+      if (gx * gx + gy * gy + gz * gz > limit * limit) continue;
+      const tmesh::Contact c = tmesh::closest_feature(s.triangles[cand.triangle], centre, s.precision);
+      if (c.feature == tmesh::Feature::none) continue;
+      const double deltan = c.distance - radius[i];
+      if (!(deltan <= 0.0 || deltan < touch_factor * radius[i])) continue;
+      const bool intersect = deltan <= 0.0;
+      bool accepted = false;
+      double *history = handle_contact(i, s, cand.triangle, intersect, c.feature == tmesh::Feature::face, accepted);
+      if (!accepted) continue;
+      const rot::Mat3 &pose = poses[cand.screw];
+      const rot::Vec3 delta = rot::RigidRotation::vector_to_lab(pose, {c.delta[0], c.delta[1], c.delta[2]});
+      const rot::Vec3 v_surface = s.motion.surface_velocity(lab + delta);
+      double v_wall[3] = {v_surface.x, v_surface.y, v_surface.z};
+      atom_type_wall_ = all_meshes_[s.list_index]->atomTypeWall();
+      sidata.i = i;
+      sidata.radi = radius[i];
+      sidata.deltan = -deltan;
+      sidata.delta[0] = -delta.x;
+      sidata.delta[1] = -delta.y;
+      sidata.delta[2] = -delta.z;
+      sidata.contact_history = history;
+      sidata.mesh = nullptr;
+      sidata.fix_mesh = all_meshes_[s.list_index];
+      const double f_before[3] = {f[i][0], f[i][1], f[i][2]};
+      const double t_before[3] = {torque[i][0], torque[i][1], torque[i][2]};
+      impl->compute_force(this, sidata, intersect, v_wall, nullptr, s.list_index, nullptr, cand.triangle);
+      // reaction on the screw: force −Δf, torque about the origin −[(x − p) × Δf + Δτ]
+      const rot::Vec3 df{f[i][0] - f_before[0], f[i][1] - f_before[1], f[i][2] - f_before[2]};
+      const rot::Vec3 dt{torque[i][0] - t_before[0], torque[i][1] - t_before[1], torque[i][2] - t_before[2]};
+      const rot::Vec3 moment = rot::cross(lab - s.motion.origin, df) + dt;
+      s.load[0] -= df.x, s.load[1] -= df.y, s.load[2] -= df.z;
+      s.load[3] -= moment.x, s.load[4] -= moment.y, s.load[5] -= moment.z;
     }
   }
   clean_up_contacts();
@@ -665,7 +735,7 @@ double FixWallGranCorotating::memory_usage()
 {
   double bytes = static_cast<double>(atom->nmax) * max_contacts_ * (sizeof(int) + sizeof(char) + history_size_ * sizeof(double));
   for (const Screw &s : screws_)
-    bytes += s.triangles.size() * sizeof(tmesh::Triangle) + s.grid.memory_bytes() +
+    bytes += s.triangles.size() * sizeof(tmesh::Triangle) + s.tree.memory_bytes() +
              s.coplanar.items.size() * sizeof(int) + s.coplanar.offsets.size() * sizeof(std::int64_t);
   return bytes;
 }

@@ -3,13 +3,14 @@
 // is at rest, with a static triangle grid; the contact geometry is rotated back to the lab frame and
 // evaluated by the same granular wall model as fix wall/gran, with the surface velocity ω × r of the
 // turning screw. The per-step cost therefore follows the particles near a screw, not its triangle
-// count. Meshes not named after `corotate` are handled exactly as by fix wall/gran.
+// count. Meshes named after `fixed` (the barrel) use the same static look-up without turning; the
+// other meshes are handled exactly as by fix wall/gran.
 //
 //   fix ID group wall/gran/corotating <fix wall/gran arguments> &
 //       corotate <mesh fix ID> origin x y z axis ax ay az period T [corotate ...] &
-//       [max_contacts K] [screw_dump N prefix]
+//       [fixed <mesh fix ID> ...] [max_contacts K] [screw_dump N prefix]
 //
-// Output vector, 7 values per corotating mesh s (in the order given): force on the screw (N, 3),
+// Output vector, 7 values per corotating or fixed mesh s (in the order given): force on the screw (N, 3),
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
 // screw_dump writes each screw in its current pose every N steps as legacy VTK,
 // <prefix>_<mesh ID>_<step>.vtk (rank 0); N = 0 writes none.
@@ -43,6 +44,7 @@ class FixWallGranCorotating : public FixWallGran {
   void init() override;
   void setup(int vflag) override;
   int setmask() override;
+  void pre_neighbor() override;
   void post_force(int vflag) override;
   void end_of_step() override;
   void post_force_pgl() override;
@@ -62,12 +64,20 @@ class FixWallGranCorotating : public FixWallGran {
   double memory_usage() override;
 
  private:
+  // A screw triangle near one image of a particle, found with the reach plus the neighbour skin;
+  // reused until the particle has moved half a skin (in the lab or in a screw's frame).
+  struct Candidate {
+    int screw;
+    int triangle;
+    signed char image[3];  // periodic image: x + image · box length
+  };
   struct Screw {
     std::string mesh_id;
+    bool turning = true;                  // false: a 'fixed' mesh (ω = 0, no axis check)
     int list_index = -1;                  // position in FixMesh_list_
     tsg::rotation::RigidRotation motion;  // axis through origin, angular speed
     std::vector<tsg::trimesh::Triangle> triangles;  // in the screw's own frame (as given), sorted by mesh id
-    tsg::trimesh::TriangleGrid grid;
+    tsg::trimesh::TriangleTree tree;
     tsg::trimesh::CompressedLists coplanar;
     double precision = 0.0;  // the mesh's precision (fix mesh/surface)
     int key_offset = 0;      // contact keys of this screw: key_offset + triangle index
@@ -77,18 +87,24 @@ class FixWallGranCorotating : public FixWallGran {
 
   static int wall_gran_arguments(int narg, char **arg);
   void parse_corotate(int narg, char **arg, int first);
+  void add_mesh(Screw screw);
   [[noreturn]] void fail(const std::string &message);
   void gather_triangles(Screw &screw);
   void check_shares_axis(const Screw &screw);
-  void build_grids(double reach);
   double elapsed_time() const;
   void corotating_contacts();
+  void build_candidates(int i, const std::vector<tsg::rotation::Mat3> &poses);
   void write_screw_dumps();
   double *handle_contact(int i, const Screw &screw, int tri, bool intersect, bool face, bool &accepted);
   void mark_all_contacts();
   void clean_up_contacts();
 
   std::vector<Screw> screws_;
+  // candidate lists per owned particle, valid until the next re-neighbouring or until the particle
+  // has moved more than half a skin from where its list was built
+  std::vector<std::vector<Candidate>> candidates_;
+  std::vector<double> built_at_;  // per particle: lab position, then body position per screw
+  bool candidates_valid_ = false;
   std::vector<class FixMeshSurface *> all_meshes_, static_meshes_;
   bool triangles_gathered_ = false;
 

@@ -1,7 +1,9 @@
 // Static look-ups over a mesh that never moves (a screw in its own frame), dependency-free:
-//   - TriangleGrid: uniform grid of cells; each cell lists every triangle whose bounding box,
-//     grown by `reach`, overlaps the cell. The triangles that can lie within `reach` of a point are
-//     then all in the list of the point's cell, and a query costs one cell, whatever the mesh size.
+//   - TriangleTree: a bounding-volume hierarchy (axis-aligned boxes, median splits, leaves of four
+//     triangles) built once. A query visits the boxes within `reach` of a point; near a surface the
+//     boxes it opens grow with the mesh resolution only as the square root of the triangle count
+//     (a uniform grid of fixed cells grows linearly: measured in docs/rotating-screws.md), and the
+//     reach is the querying particle's own, so no rebuild is needed when larger particles arrive.
 //   - coplanar_node_neighbours: for each triangle, the triangles that share a node with it and are
 //     coplanar (|n_a · n_b| > curvature), as LIGGGHTS' areCoplanarNodeNeighs decides; the contact
 //     history uses them so that a particle sliding over a flat region keeps one contact.
@@ -12,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -29,82 +32,118 @@ struct CompressedLists {
   const int *end(std::size_t i) const { return items.data() + offsets[i + 1]; }
 };
 
-class TriangleGrid {
+class TriangleTree {
  public:
-  // reach > 0: largest centre-to-surface distance a query must see; cell_size >= reach.
-  // Throws std::invalid_argument for an empty mesh or bad sizes, std::length_error if the grid
-  // would need more than max_cells cells.
-  void build(const std::vector<Triangle> &triangles, double reach, double cell_size,
-             std::int64_t max_cells = 64LL << 20) {
-    if (triangles.empty()) throw std::invalid_argument("triangle grid: the mesh has no triangles");
-    if (!(reach > 0.0) || !(cell_size >= reach))
-      throw std::invalid_argument("triangle grid: need reach > 0 and cell_size >= reach (reach " +
-                                  std::to_string(reach) + ", cell size " + std::to_string(cell_size) + ")");
-    reach_ = reach;
-    cell_ = cell_size;
-    for (int d = 0; d < 3; ++d) {
-      lo_[d] = triangles[0].node[0][d];
-      double hi = lo_[d];
-      for (const Triangle &t : triangles)
-        for (const auto &n : t.node) lo_[d] = std::min(lo_[d], n[d]), hi = std::max(hi, n[d]);
-      lo_[d] -= reach;
-      hi += reach;
-      count_[d] = static_cast<std::int64_t>(std::floor((hi - lo_[d]) / cell_)) + 1;
+  // Builds the tree over the triangles (indices into `triangles`); throws std::invalid_argument for
+  // an empty mesh.
+  void build(const std::vector<Triangle> &triangles) {
+    if (triangles.empty()) throw std::invalid_argument("triangle tree: the mesh has no triangles");
+    const std::size_t n = triangles.size();
+    spheres_.resize(4 * n);
+    order_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int d = 0; d < 3; ++d)
+        spheres_[4 * i + d] = (triangles[i].node[0][d] + triangles[i].node[1][d] + triangles[i].node[2][d]) / 3.0;
+      spheres_[4 * i + 3] = triangles[i].bound_radius;
+      order_[i] = static_cast<int>(i);
     }
-    const std::int64_t cells = count_[0] * count_[1] * count_[2];
-    if (cells > max_cells)
-      throw std::length_error("triangle grid: " + std::to_string(cells) + " cells of " + std::to_string(cell_) +
-                              " m exceed the limit of " + std::to_string(max_cells));
-    // two passes: count the entries of each cell, then fill
-    lists_.offsets.assign(cells + 1, 0);
-    for_each_cell_of_each_triangle(triangles, [&](std::int64_t cell, int) { ++lists_.offsets[cell + 1]; });
-    for (std::int64_t c = 0; c < cells; ++c) lists_.offsets[c + 1] += lists_.offsets[c];
-    lists_.items.assign(lists_.offsets[cells], -1);
-    std::vector<std::int64_t> fill(lists_.offsets.begin(), lists_.offsets.end() - 1);
-    for_each_cell_of_each_triangle(triangles, [&](std::int64_t cell, int tri) { lists_.items[fill[cell]++] = tri; });
+    nodes_.clear();
+    nodes_.reserve(2 * n / kLeafSize + 2);
+    build_node(triangles, 0, n);
   }
 
-  // Triangles that may lie within reach() of the point p; empty range outside the grid.
-  std::pair<const int *, const int *> candidates(const double *p) const {
-    std::int64_t index[3];
-    for (int d = 0; d < 3; ++d) {
-      const double s = std::floor((p[d] - lo_[d]) / cell_);
-      if (!(s >= 0.0) || s >= static_cast<double>(count_[d])) return {nullptr, nullptr};
-      index[d] = static_cast<std::int64_t>(s);
+  // Calls visit(i) for every triangle i whose bounding sphere comes within `reach` of the point p
+  // (a superset of the triangles within reach of p), in a fixed order.
+  template <class Visit>
+  void for_each_near(const double *p, double reach, Visit visit) const {
+    const double reach2 = reach * reach;
+    std::size_t stack[kMaxDepth];
+    std::size_t top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node &node = nodes_[stack[--top]];
+      double gap2 = 0.0;  // squared distance from p to the node's box
+      for (int d = 0; d < 3; ++d) {
+        const double below = node.lo[d] - p[d], above = p[d] - node.hi[d];
+        const double gap = below > 0.0 ? below : (above > 0.0 ? above : 0.0);
+        gap2 += gap * gap;
+      }
+      if (gap2 > reach2) continue;
+      if (node.count > 0) {
+        for (std::size_t k = node.first; k < node.first + node.count; ++k) {
+          const int tri = order_[k];
+          const double *sphere = &spheres_[4 * static_cast<std::size_t>(tri)];
+          const double dx = p[0] - sphere[0], dy = p[1] - sphere[1], dz = p[2] - sphere[2];
+          const double limit = reach + sphere[3];
+          if (dx * dx + dy * dy + dz * dz <= limit * limit) visit(tri);
+        }
+      } else {
+        stack[top++] = node.second;  // visited after the first child
+        stack[top++] = node.first;
+      }
     }
-    const std::int64_t cell = (index[2] * count_[1] + index[1]) * count_[0] + index[0];
-    return {lists_.begin(cell), lists_.end(cell)};
   }
 
-  double reach() const { return reach_; }
-  std::int64_t cells() const { return count_[0] * count_[1] * count_[2]; }
-  std::size_t entries() const { return lists_.items.size(); }
+  // bounding sphere of triangle i: centre xyz (node average), radius (largest node distance)
+  const double *bounding_sphere(int i) const { return &spheres_[4 * static_cast<std::size_t>(i)]; }
+
+  std::size_t nodes() const { return nodes_.size(); }
   std::size_t memory_bytes() const {
-    return lists_.offsets.size() * sizeof(std::int64_t) + lists_.items.size() * sizeof(int);
+    return nodes_.size() * sizeof(Node) + order_.size() * sizeof(int) + spheres_.size() * sizeof(double);
   }
 
  private:
-  template <class Visit>
-  void for_each_cell_of_each_triangle(const std::vector<Triangle> &triangles, Visit visit) const {
-    for (int tri = 0; tri < static_cast<int>(triangles.size()); ++tri) {
-      std::int64_t first[3], last[3];
-      for (int d = 0; d < 3; ++d) {
-        double lo = triangles[tri].node[0][d], hi = lo;
-        for (const auto &n : triangles[tri].node) lo = std::min(lo, n[d]), hi = std::max(hi, n[d]);
-        first[d] = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((lo - reach_ - lo_[d]) / cell_)));
-        last[d] = std::min<std::int64_t>(count_[d] - 1,
-                                         static_cast<std::int64_t>(std::floor((hi + reach_ - lo_[d]) / cell_)));
-      }
-      for (std::int64_t k = first[2]; k <= last[2]; ++k)
-        for (std::int64_t j = first[1]; j <= last[1]; ++j)
-          for (std::int64_t i = first[0]; i <= last[0]; ++i) visit((k * count_[1] + j) * count_[0] + i, tri);
+  static constexpr std::size_t kLeafSize = 4;
+  static constexpr std::size_t kMaxDepth = 128;
+  // inner node: first/second = child node indices, count = 0; leaf: triangles order_[first, first + count)
+  struct Node {
+    double lo[3], hi[3];
+    std::size_t first, second, count;
+  };
+
+  // Median split of order_[begin, end) along the longest extent of the triangle centres.
+  std::size_t build_node(const std::vector<Triangle> &triangles, std::size_t begin, std::size_t end) {
+    const std::size_t index = nodes_.size();
+    nodes_.push_back(Node{});
+    Node node{};
+    double centre_lo[3], centre_hi[3];
+    for (int d = 0; d < 3; ++d) {
+      node.lo[d] = centre_lo[d] = std::numeric_limits<double>::max();
+      node.hi[d] = centre_hi[d] = -std::numeric_limits<double>::max();
     }
+    for (std::size_t k = begin; k < end; ++k) {
+      const int tri = order_[k];
+      for (int d = 0; d < 3; ++d) {
+        for (const auto &n : triangles[tri].node) node.lo[d] = std::min(node.lo[d], n[d]), node.hi[d] = std::max(node.hi[d], n[d]);
+        const double c = spheres_[4 * static_cast<std::size_t>(tri) + d];
+        centre_lo[d] = std::min(centre_lo[d], c), centre_hi[d] = std::max(centre_hi[d], c);
+      }
+    }
+    if (end - begin <= kLeafSize) {
+      node.first = begin, node.count = end - begin, node.second = 0;
+      nodes_[index] = node;
+      return index;
+    }
+    int axis = 0;
+    for (int d = 1; d < 3; ++d)
+      if (centre_hi[d] - centre_lo[d] > centre_hi[axis] - centre_lo[axis]) axis = d;
+    const std::size_t middle = begin + (end - begin) / 2;
+    std::nth_element(order_.begin() + static_cast<std::ptrdiff_t>(begin), order_.begin() + static_cast<std::ptrdiff_t>(middle),
+                     order_.begin() + static_cast<std::ptrdiff_t>(end), [&](int a, int b) {
+                       const double ca = spheres_[4 * static_cast<std::size_t>(a) + axis];
+                       const double cb = spheres_[4 * static_cast<std::size_t>(b) + axis];
+                       return ca < cb || (ca == cb && a < b);
+                     });
+    node.count = 0;
+    node.first = build_node(triangles, begin, middle);
+    node.second = build_node(triangles, middle, end);
+    nodes_[index] = node;
+    return index;
   }
 
-  double reach_ = 0.0, cell_ = 0.0;
-  double lo_[3] = {0, 0, 0};
-  std::int64_t count_[3] = {0, 0, 0};
-  CompressedLists lists_;
+  std::vector<Node> nodes_;
+  std::vector<int> order_;        // triangle indices, grouped by leaf
+  std::vector<double> spheres_;   // centre xyz, bound radius per triangle
 };
 
 // Triangles sharing at least one node (identical coordinates) with triangle i and coplanar with it.

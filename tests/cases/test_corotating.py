@@ -57,14 +57,15 @@ def periodic_meshes() -> Path:
 
 
 def atoms_in_bores(rng: np.random.Generator, count: int, x_ranges: list[tuple[float, float]]) -> str:
-    """create_atoms lines: centres in either bore, at least 0.6 mm inside the barrel."""
+    """create_atoms lines: centres in either bore, at least 0.4 mm inside the barrel (0.5 mm particles:
+    some overlap the barrel)."""
     lines = []
     while len(lines) < count:
         lo, hi = x_ranges[len(lines) % len(x_ranges)]
         x = rng.uniform(lo, hi)
         y = rng.uniform(-HALF_CENTRE - BORE, HALF_CENTRE + BORE)
         z = rng.uniform(-BORE, BORE)
-        if min(np.hypot(y + HALF_CENTRE, z), np.hypot(y - HALF_CENTRE, z)) < BORE - 0.0006:
+        if min(np.hypot(y + HALF_CENTRE, z), np.hypot(y - HALF_CENTRE, z)) < BORE - 0.0004:
             lines.append(f"create_atoms 1 single {x:.12e} {y:.12e} {z:.12e} units box\n")
     return "".join(lines)
 
@@ -226,7 +227,7 @@ def test_restart_continues_the_same_run(tmp_path, periodic_meshes):
 
 def drive(screw1_origin_y: str = "-${half_centre}", extra: str = "", period: str = "${period}") -> str:
     return ("fix walls all wall/gran/corotating model hertz tangential history rolling_friction cdt "
-            "mesh n_meshes 2 meshes screw1 screw2 "
+            "mesh n_meshes 3 meshes screw1 screw2 barrel fixed barrel "
             f"corotate screw1 origin 0 {screw1_origin_y} 0 axis 1 0 0 period {period} "
             "corotate screw2 origin 0 ${half_centre} 0 axis 1 0 0 period ${period}\n" + extra)
 

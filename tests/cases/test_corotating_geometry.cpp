@@ -1,10 +1,11 @@
 // Unit tests of the dependency-free geometry behind fix wall/gran/corotating:
 // rigid_rotation.h (pose, surface velocity, phase from time), triangle_contact.h (closest feature),
-// triangle_lookup.h (static grid, coplanar neighbours). References are independent: closed-form
+// triangle_lookup.h (bounding-volume tree, coplanar neighbours). References are independent: closed-form
 // rotations, brute-force minimisation over a dense sampling of the triangle, and exhaustive search.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -183,7 +184,7 @@ TEST(TriangleContact, InactiveEdgesAndCornersAreLeftToTheirOwner) {
   EXPECT_NEAR(face.delta[2], -0.4e-3, 1e-18);
 }
 
-TEST(TriangleGrid, CandidatesHoldEveryTriangleWithinReach) {
+TEST(TriangleTree, VisitsEveryTriangleWithinReachOnce) {
   // a wavy surface of 2 x 40 x 40 triangles
   std::vector<tmesh::Triangle> tris;
   const int n = 40;
@@ -197,38 +198,42 @@ TEST(TriangleGrid, CandidatesHoldEveryTriangleWithinReach) {
       tris.push_back(make_triangle(p00, p10, p11));
       tris.push_back(make_triangle(p00, p11, p01));
     }
-  const double reach = 0.6e-3;
-  tmesh::TriangleGrid grid;
-  grid.build(tris, reach, 2 * reach);
+  tmesh::TriangleTree tree;
+  tree.build(tris);
   std::mt19937_64 rng(21);
-  std::uniform_real_distribution<double> ux(-1e-3, n * h + 1e-3), uz(-1.5e-3, 1.5e-3);
+  std::uniform_real_distribution<double> ux(-1e-3, n * h + 1e-3), uz(-1.5e-3, 1.5e-3), ur(0.1e-3, 0.8e-3);
   int near_pairs = 0;
+  std::size_t visited_total = 0;
   for (int k = 0; k < 300; ++k) {
     const double p[3] = {ux(rng), ux(rng), uz(rng)};
-    const auto range = grid.candidates(p);
-    std::vector<int> listed(range.first, range.second);
+    const double reach = ur(rng);
+    std::vector<int> visited;
+    tree.for_each_near(p, reach, [&](int tri) { visited.push_back(tri); });
+    std::vector<int> sorted = visited;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "a triangle visited twice";
+    visited_total += visited.size();
     for (int tri = 0; tri < static_cast<int>(tris.size()); ++tri) {
       const tmesh::Contact c = tmesh::closest_feature(tris[tri], p, 1e-8);
       if (c.feature != tmesh::Feature::none && c.distance <= reach) {
         ++near_pairs;
-        EXPECT_NE(std::find(listed.begin(), listed.end(), tri), listed.end()) << "triangle " << tri;
+        EXPECT_TRUE(std::binary_search(sorted.begin(), sorted.end(), tri)) << "triangle " << tri;
       }
     }
   }
   EXPECT_GT(near_pairs, 100);
-  // a query far outside the grid returns nothing
+  // the pre-test keeps the visits close to the triangles that matter (not the whole mesh)
+  EXPECT_LT(visited_total, 300u * tris.size() / 20);
+  // a query far outside visits nothing
   const double far[3] = {1.0, 1.0, 1.0};
-  EXPECT_EQ(grid.candidates(far).first, grid.candidates(far).second);
+  int count = 0;
+  tree.for_each_near(far, 1e-3, [&](int) { ++count; });
+  EXPECT_EQ(count, 0);
 }
 
-TEST(TriangleGrid, RejectsBadSizes) {
-  const double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0};
-  std::vector<tmesh::Triangle> tris{make_triangle(a, b, c)};
-  tmesh::TriangleGrid grid;
-  EXPECT_THROW(grid.build({}, 1.0, 1.0), std::invalid_argument);
-  EXPECT_THROW(grid.build(tris, 0.0, 1.0), std::invalid_argument);
-  EXPECT_THROW(grid.build(tris, 1.0, 0.5), std::invalid_argument);
-  EXPECT_THROW(grid.build(tris, 1e-6, 1e-6, 1000), std::length_error);
+TEST(TriangleTree, RejectsAnEmptyMesh) {
+  tmesh::TriangleTree tree;
+  EXPECT_THROW(tree.build({}), std::invalid_argument);
 }
 
 TEST(CoplanarNeighbours, FlatSquareIsOneRegionAFoldIsNot) {
