@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <unordered_map>
 
 #include "atom.h"
 #include "comm.h"
@@ -390,14 +391,65 @@ void FixWallGranCorotating::post_force(int vflag)
   FixMesh_list_ = all;
   n_FixMesh_ = nall;
 
+  const double start = MPI_Wtime();
   corotating_contacts();
+  contact_seconds_ += MPI_Wtime() - start;
+  ++timed_steps_;
 }
 
-// Atoms are exchanged and reordered at re-neighbouring: the candidate lists are rebuilt after it.
+void FixWallGranCorotating::post_run()
+{
+  double slowest = 0.0;
+  MPI_Allreduce(&contact_seconds_, &slowest, 1, MPI_DOUBLE, MPI_MAX, world);
+  double builds = static_cast<double>(list_builds_), builds_all = 0.0;
+  MPI_Allreduce(&builds, &builds_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  if (comm->me == 0 && timed_steps_ > 0) {
+    char line[256];
+    snprintf(line, sizeof line,
+             "fix %s wall/gran/corotating: contact handling %.4g ms/step (slowest rank, %lld steps), "
+             "%.0f candidate lists built\n",
+             id, 1e3 * slowest / static_cast<double>(timed_steps_), static_cast<long long>(timed_steps_), builds_all);
+    if (screen) fputs(line, screen);
+    if (logfile) fputs(line, logfile);
+  }
+  contact_seconds_ = 0.0;
+  timed_steps_ = 0;
+  list_builds_ = 0;
+}
+
+// Atoms are exchanged and reordered at re-neighbouring: the lists follow their particles after it.
 void FixWallGranCorotating::pre_neighbor()
 {
   FixWallGran::pre_neighbor();
-  candidates_valid_ = false;
+  reindex_lists_ = true;
+}
+
+// Moves each list to its particle's new local index (by atom ID); particles new to this rank get a
+// new list.
+void FixWallGranCorotating::follow_lists_to_new_indices(const std::vector<rot::Mat3> &poses)
+{
+  const int nlocal = atom->nlocal;
+  const size_t stride = 3 + 3 * screws_.size();
+  std::unordered_map<tagint, size_t> old_index;
+  old_index.reserve(list_owner_.size());
+  for (size_t k = 0; k < list_owner_.size(); ++k) old_index.emplace(list_owner_[k], k);
+  std::vector<std::vector<Candidate>> lists(nlocal);
+  std::vector<double> built(static_cast<size_t>(nlocal) * stride, 0.0);
+  std::vector<tagint> owner(nlocal);
+  std::vector<bool> fresh(nlocal, true);
+  for (int i = 0; i < nlocal; ++i) {
+    owner[i] = atom->tag[i];
+    const auto found = old_index.find(atom->tag[i]);
+    if (found == old_index.end()) continue;
+    lists[i] = std::move(candidates_[found->second]);
+    std::copy(&built_at_[found->second * stride], &built_at_[(found->second + 1) * stride], &built[i * stride]);
+    fresh[i] = false;
+  }
+  candidates_ = std::move(lists);
+  built_at_ = std::move(built);
+  list_owner_ = std::move(owner);
+  for (int i = 0; i < nlocal; ++i)
+    if (fresh[i] && (atom->mask[i] & groupbit)) build_candidates(i, poses);
 }
 
 // Candidates of particle i: the triangles of every screw whose bounding sphere comes within reach +
@@ -424,6 +476,7 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
   }
   std::vector<Candidate> &list = candidates_[i];
   list.clear();
+  ++list_builds_;
   double *built = &built_at_[static_cast<size_t>(i) * (3 + 3 * screws_.size())];
   std::copy(xi, xi + 3, built);
   for (size_t s = 0; s < screws_.size(); ++s) {
@@ -469,12 +522,9 @@ void FixWallGranCorotating::corotating_contacts()
     screw.angle = screw.motion.angle(time);
     poses[s] = rot::rotation_matrix(screw.motion.axis, screw.angle);
   }
-  if (!candidates_valid_ || static_cast<int>(candidates_.size()) != nlocal) {
-    candidates_.assign(nlocal, {});
-    built_at_.assign(static_cast<size_t>(nlocal) * stride, 0.0);
-    for (int i = 0; i < nlocal; ++i)
-      if (mask[i] & groupbit) build_candidates(i, poses);
-    candidates_valid_ = true;
+  if (reindex_lists_ || static_cast<int>(candidates_.size()) != nlocal) {
+    follow_lists_to_new_indices(poses);
+    reindex_lists_ = false;
   }
 
   mark_all_contacts();

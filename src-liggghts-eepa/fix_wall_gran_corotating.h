@@ -14,6 +14,8 @@
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
 // screw_dump writes each screw in its current pose every N steps as legacy VTK,
 // <prefix>_<mesh ID>_<step>.vtk (rank 0); N = 0 writes none.
+// At the end of each run the fix reports the time spent in its own contact handling per step
+// (slowest rank) and how many candidate lists were rebuilt.
 //
 // Design and measurements: docs/rotating-screws.md.
 #ifdef FIX_CLASS
@@ -47,6 +49,7 @@ class FixWallGranCorotating : public FixWallGran {
   void pre_neighbor() override;
   void post_force(int vflag) override;
   void end_of_step() override;
+  void post_run() override;
   void post_force_pgl() override;
   double compute_vector(int n) override;
 
@@ -94,17 +97,23 @@ class FixWallGranCorotating : public FixWallGran {
   double elapsed_time() const;
   void corotating_contacts();
   void build_candidates(int i, const std::vector<tsg::rotation::Mat3> &poses);
+  void follow_lists_to_new_indices(const std::vector<tsg::rotation::Mat3> &poses);
   void write_screw_dumps();
   double *handle_contact(int i, const Screw &screw, int tri, bool intersect, bool face, bool &accepted);
   void mark_all_contacts();
   void clean_up_contacts();
 
   std::vector<Screw> screws_;
-  // candidate lists per owned particle, valid until the next re-neighbouring or until the particle
-  // has moved more than half a skin from where its list was built
+  // candidate lists per owned particle, valid until the particle has moved more than half a skin
+  // from where its list was built (lab frame or a screw's frame); they follow their particle to its
+  // new local index after re-neighbouring
   std::vector<std::vector<Candidate>> candidates_;
   std::vector<double> built_at_;  // per particle: lab position, then body position per screw
-  bool candidates_valid_ = false;
+  std::vector<tagint> list_owner_;  // atom ID of each list (local indices change at re-neighbouring)
+  bool reindex_lists_ = false;
+  // cost report at the end of each run: time in this fix's own contact handling, list rebuilds
+  double contact_seconds_ = 0.0;
+  bigint timed_steps_ = 0, list_builds_ = 0;
   std::vector<class FixMeshSurface *> all_meshes_, static_meshes_;
   bool triangles_gathered_ = false;
 
