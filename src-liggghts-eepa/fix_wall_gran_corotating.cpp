@@ -49,7 +49,7 @@ int FixWallGranCorotating::wall_gran_arguments(int narg, char **arg)
 {
   for (int i = 3; i < narg; ++i)
     if (strcmp(arg[i], "corotate") == 0 || strcmp(arg[i], "fixed") == 0 || strcmp(arg[i], "max_contacts") == 0 ||
-        strcmp(arg[i], "screw_dump") == 0)
+        strcmp(arg[i], "screw_dump") == 0 || strcmp(arg[i], "list_skin") == 0)
       return i;
   return narg;
 }
@@ -132,6 +132,16 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
       iarg += 3;
       continue;
     }
+    if (key == "list_skin") {
+      if (iarg + 2 > narg) fail("list_skin needs a value");
+      char *end = nullptr;
+      const double v = strtod(arg[iarg + 1], &end);
+      if (*end != '\0' || !(v > 0.0) || !std::isfinite(v))
+        fail(std::string("list_skin = ") + arg[iarg + 1] + " is not allowed: a length > 0 (m)");
+      list_skin_ = v;
+      iarg += 2;
+      continue;
+    }
     if (key == "max_contacts") {
       if (iarg + 2 > narg) fail("max_contacts needs a value");
       char *end = nullptr;
@@ -154,7 +164,7 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
     }
     if (key != "corotate")
       fail("unknown keyword '" + key + "' after the wall/gran arguments (allowed: corotate, fixed, max_contacts, "
-           "screw_dump)");
+           "list_skin, screw_dump)");
     if (iarg + 11 > narg)
       fail("corotate needs: <mesh fix ID> origin x y z axis ax ay az period T");
     Screw s;
@@ -457,7 +467,7 @@ void FixWallGranCorotating::follow_lists_to_new_indices(const std::vector<rot::M
 void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3> &poses)
 {
   const double *xi = atom->x[i];
-  const double reach = atom->radius[i] * std::max(1.0, neighbor->contactDistanceFactor) + neighbor->skin;
+  const double reach = atom->radius[i] * std::max(1.0, neighbor->contactDistanceFactor) + list_skin();
   const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
   // images: -1, 0, +1 box lengths per periodic direction within reach of a face
   signed char images[8][3] = {{0, 0, 0}};
@@ -511,7 +521,7 @@ void FixWallGranCorotating::corotating_contacts()
   const int *mask = atom->mask;
   const double touch_factor = neighbor->contactDistanceFactor - 1.0;  // contacts without overlap (cohesion)
   const double time = elapsed_time();
-  const double half_skin2 = 0.25 * neighbor->skin * neighbor->skin;
+  const double half_skin2 = 0.25 * list_skin() * list_skin();
   const size_t nscrews = screws_.size();
   const size_t stride = 3 + 3 * nscrews;
 

@@ -8,7 +8,7 @@
 //
 //   fix ID group wall/gran/corotating <fix wall/gran arguments> &
 //       corotate <mesh fix ID> origin x y z axis ax ay az period T [corotate ...] &
-//       [fixed <mesh fix ID> ...] [max_contacts K] [screw_dump N prefix]
+//       [fixed <mesh fix ID> ...] [max_contacts K] [list_skin s] [screw_dump N prefix]
 //
 // Output vector, 7 values per corotating or fixed mesh s (in the order given): force on the screw (N, 3),
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
@@ -31,6 +31,7 @@ FixStyle(wall/gran/corotating, FixWallGranCorotating)
 #include <vector>
 
 #include "fix_wall_gran.h"
+#include "neighbor.h"
 #include "physics/rigid_rotation.h"
 #include "physics/triangle_contact.h"
 #include "physics/triangle_lookup.h"
@@ -125,6 +126,11 @@ class FixWallGranCorotating : public FixWallGran {
   // contact history with screw triangles, per particle: up to max_contacts_ slots of
   // (key, dnum values); keys < 0 are free slots
   int max_contacts_ = 16;
+  // candidate lists hold triangles within reach + list skin; default half the neighbour skin (the
+  // lists are rebuilt when a particle moves half of it in a screw's frame, where the screw's turning
+  // moves every particle: docs/rotating-screws.md has the measured trade-off)
+  double list_skin_ = 0.0;
+  double list_skin() const { return list_skin_ > 0.0 ? list_skin_ : 0.5 * neighbor->skin; }
   int dump_every_ = 0;
   std::string dump_prefix_;
   std::vector<int> extensive_;

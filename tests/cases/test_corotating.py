@@ -247,3 +247,33 @@ def test_rejects_screws_that_do_not_turn_rigidly_about_their_axis(tmp_path, peri
                        extra_drive=text, expect_error=True)
     text_out = run.stdout + run.stderr + run.log
     assert message in text_out, f"{case}: expected '{message}' in the error, got {run.errors}"
+
+
+# ---- outputs ------------------------------------------------------------------------------------------
+
+def stl_vertices(path: Path) -> np.ndarray:
+    return np.array([[float(v) for v in line.split()[1:4]] for line in path.read_text().splitlines()
+                     if line.lstrip().startswith("vertex")])
+
+
+def vtk_points(path: Path) -> np.ndarray:
+    lines = path.read_text().splitlines()
+    start = next(k for k, line in enumerate(lines) if line.startswith("POINTS"))
+    count = int(lines[start].split()[1])
+    return np.array([[float(v) for v in line.split()] for line in lines[start + 1:start + 1 + count]])
+
+
+def test_screw_dump_is_the_mesh_turned_by_omega_t(tmp_path, periodic_meshes):
+    """screw_dump writes screw 1 at step 100 as the STL turned by ω · 100 dt about its axis."""
+    atoms = atoms_in_bores(np.random.default_rng(29), 5, [(0.0, PERIODIC_LENGTH)])
+    text = drive(extra="").replace("fixed barrel ", "fixed barrel screw_dump 50 ${restart_file}_dump ")
+    run_paths(tmp_path, "corotating", periodic_meshes, atoms, periodic=True, nsteps=100, extra_drive=text)
+    dumped = vtk_points(tmp_path / "restart_dump_screw1_100.vtk")
+    theta = 2 * np.pi / 0.1 * 100 * 2e-6
+    c, s = np.cos(theta), np.sin(theta)
+    nodes = stl_vertices(periodic_meshes / "screw1.stl")
+    y, z = nodes[:, 1] + HALF_CENTRE, nodes[:, 2]
+    expected = np.column_stack([nodes[:, 0], c * y - s * z - HALF_CENTRE, s * y + c * z])
+    assert dumped.shape == expected.shape
+    order = lambda a: a[np.lexsort(np.round(a / 1e-9).T[::-1])]  # noqa: E731 - same points, any order
+    assert np.abs(order(dumped) - order(expected)).max() < 1e-12
