@@ -50,7 +50,7 @@ def element_meshes(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="module")
 def periodic_meshes() -> Path:
-    path = BUILD / "meshes" / "demo-periodic-20um"
+    path = BUILD / "meshes" / "consigma1-periodic-20um"
     if not (path / "screw1.stl").exists():
         pytest.fail(f"{path} missing: run ./tsg setup (it builds the meshes)")
     return path
