@@ -14,8 +14,8 @@
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
 // screw_dump writes each screw in its current pose every N steps as legacy VTK,
 // <prefix>_<mesh ID>_<step>.vtk (rank 0); N = 0 writes none.
-// At the end of each run the fix reports the time spent in its own contact handling per step
-// (slowest rank) and how many candidate lists were rebuilt.
+// When deleted (end of input or unfix) the fix reports the time spent in its own contact handling
+// per step (slowest rank) and how many candidate lists were built.
 //
 // Design and measurements: docs/rotating-screws.md.
 #ifdef FIX_CLASS
@@ -50,8 +50,6 @@ class FixWallGranCorotating : public FixWallGran {
   void pre_neighbor() override;
   void post_force(int vflag) override;
   void end_of_step() override;
-  void post_run() override;
-  void post_force_pgl() override;
   double compute_vector(int n) override;
 
   void grow_arrays(int nmax) override;
@@ -100,6 +98,7 @@ class FixWallGranCorotating : public FixWallGran {
   void build_candidates(int i, const std::vector<tsg::rotation::Mat3> &poses);
   void follow_lists_to_new_indices(const std::vector<tsg::rotation::Mat3> &poses);
   void write_screw_dumps();
+  void report_cost();
   double *handle_contact(int i, const Screw &screw, int tri, bool intersect, bool face, bool &accepted);
   void mark_all_contacts();
   void clean_up_contacts();
@@ -112,7 +111,7 @@ class FixWallGranCorotating : public FixWallGran {
   std::vector<double> built_at_;  // per particle: lab position, then body position per screw
   std::vector<tagint> list_owner_;  // atom ID of each list (local indices change at re-neighbouring)
   bool reindex_lists_ = false;
-  // cost report at the end of each run: time in this fix's own contact handling, list rebuilds
+  // cost report when the fix is deleted: time in its own contact handling, list builds
   double contact_seconds_ = 0.0;
   bigint timed_steps_ = 0, list_builds_ = 0;
   std::vector<class FixMeshSurface *> all_meshes_, static_meshes_;
