@@ -573,7 +573,7 @@ void FixWallGranCorotating::corotating_contacts()
       if (!(deltan <= 0.0 || deltan < touch_factor * radius[i])) continue;
       const bool intersect = deltan <= 0.0;
       bool accepted = false;
-      double *history = handle_contact(i, s, cand.triangle, intersect, c.feature == tmesh::Feature::face, accepted);
+      double *history = handle_contact(i, s, cand.triangle, c.feature == tmesh::Feature::face, accepted);
       if (!accepted) continue;
       const rot::Mat3 &pose = poses[cand.screw];
       const rot::Vec3 delta = rot::RigidRotation::vector_to_lab(pose, {c.delta[0], c.delta[1], c.delta[2]});
@@ -607,10 +607,8 @@ void FixWallGranCorotating::corotating_contacts()
 // face contact is skipped when a coplanar neighbour of the triangle already has this step's contact,
 // and otherwise inherits the history of a coplanar neighbour the particle touched before (sliding
 // over a flat region is one contact, not a string of new ones).
-double *FixWallGranCorotating::handle_contact(int i, const Screw &screw, int tri, bool intersect, bool face,
-                                              bool &accepted)
+double *FixWallGranCorotating::handle_contact(int i, const Screw &screw, int tri, bool face, bool &accepted)
 {
-  (void)intersect;
   const int key = screw.key_offset + tri;
   int *keys = contact_key_[i];
   for (int k = 0; k < max_contacts_; ++k)

@@ -1,10 +1,10 @@
 // fix wall/gran/corotating: fix wall/gran whose screw meshes turn rigidly about their own axes
 // without ever being moved. Contacts with a screw are found in the screw's own frame, where the mesh
-// is at rest, with a static triangle grid; the contact geometry is rotated back to the lab frame and
-// evaluated by the same granular wall model as fix wall/gran, with the surface velocity ω × r of the
-// turning screw. The per-step cost therefore follows the particles near a screw, not its triangle
-// count. Meshes named after `fixed` (the barrel) use the same static look-up without turning; the
-// other meshes are handled exactly as by fix wall/gran.
+// is at rest, with a static triangle tree and per-particle candidate lists; the contact geometry is
+// rotated back to the lab frame and evaluated by the same granular wall model as fix wall/gran,
+// with the surface velocity ω × r of the turning screw. The per-step cost therefore follows the
+// particles near a screw, not its triangle count. Meshes named after `fixed` (the barrel) use the
+// same static look-up without turning; the other meshes are handled exactly as by fix wall/gran.
 //
 //   fix ID group wall/gran/corotating <fix wall/gran arguments> &
 //       corotate <mesh fix ID> origin x y z axis ax ay az period T [corotate ...] &
@@ -99,7 +99,7 @@ class FixWallGranCorotating : public FixWallGran {
   void follow_lists_to_new_indices(const std::vector<tsg::rotation::Mat3> &poses);
   void write_screw_dumps();
   void report_cost();
-  double *handle_contact(int i, const Screw &screw, int tri, bool intersect, bool face, bool &accepted);
+  double *handle_contact(int i, const Screw &screw, int tri, bool face, bool &accepted);
   void mark_all_contacts();
   void clean_up_contacts();
 

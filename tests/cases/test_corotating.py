@@ -277,3 +277,12 @@ def test_screw_dump_is_the_mesh_turned_by_omega_t(tmp_path, periodic_meshes):
     assert dumped.shape == expected.shape
     order = lambda a: a[np.lexsort(np.round(a / 1e-9).T[::-1])]  # noqa: E731 - same points, any order
     assert np.abs(order(dumped) - order(expected)).max() < 1e-12
+
+
+def test_more_screw_contacts_than_max_contacts_is_a_clear_error(tmp_path, periodic_meshes):
+    atoms = atoms_in_bores(np.random.default_rng(31), 200, [(0.0, PERIODIC_LENGTH)])
+    text = drive().replace("fixed barrel ", "fixed barrel max_contacts 1 ")
+    run, _ = run_paths(tmp_path, "corotating", periodic_meshes, atoms, periodic=True, nsteps=50,
+                       extra_drive=text, expect_error=True)
+    assert "screw triangles at once; raise max_contacts" in run.stdout + run.stderr + run.log
+    assert "max_contacts = 1" in run.stdout + run.stderr + run.log
