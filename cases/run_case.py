@@ -27,11 +27,11 @@ from tsg_analysis.run_files import (ELEMENT_TYPES, AnalysisInputError, read_elem
                                     read_massflow, read_residence, read_zones)
 
 CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiodic", "full": "consigma1-full"}
-# Scales. demo: coarse particles and a coarse mesh so that the periodic case gives per-element
-# results in minutes on 2 cores (docs/cases.md explains the choices); paper: the seed paper's 400 um
-# particles, with the mesh tolerance at 1 % of the smallest radius.
+# Scales. demo: coarse particles so that the periodic case gives per-element results in minutes on
+# 2 cores (docs/cases.md explains the choices); paper: the seed paper's 400 um particles. Both with
+# the mesh tolerance at 1 % of the smallest radius (demo 0.42 mm -> 4 um, paper 0.1 mm -> 1 um).
 SCALES = {
-    "demo": {"tolerance": 20e-6,
+    "demo": {"tolerance": 4e-6,
              "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},
                        "full": {"t_sample": 0.5, "t_max_startup": 10.0}}},
@@ -123,13 +123,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=12345, help="seed of the static fill")
     parser.add_argument("--feed-at", default="inlet",
                         help="where particles are generated (full case): 'inlet' or 'element:N' (zone N, e.g. element:7 as the paper)")
+    parser.add_argument("--mesh-tolerance", type=float,
+                        help="mesh tolerance in m instead of the scale's (1 %% of the smallest radius)")
     parser.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"))
     args = parser.parse_args(argv)
+    if args.mesh_tolerance is not None and not 0.0 < args.mesh_tolerance < 1e-3:
+        parser.error(f"--mesh-tolerance {args.mesh_tolerance} is not allowed: a length in m, 0 < tolerance < 1e-3")
     scale = SCALES[args.scale]
     variables = {**scale["vars"], **scale["times"][args.case], **dict(args.var)}
     out = args.out.resolve()
     out.mkdir(parents=True, exist_ok=True)
-    mesh_dir = build_meshes(CONFIGS[args.case], scale["tolerance"])
+    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"])
     zones = read_zones(mesh_dir / "zones.txt")
     length = float(zones.x_end[-1])
     import free_space

@@ -410,12 +410,15 @@ void FixWallGranCorotating::report_cost()
   MPI_Allreduce(&contact_seconds_, &slowest, 1, MPI_DOUBLE, MPI_MAX, world);
   double builds = static_cast<double>(list_builds_), builds_all = 0.0;
   MPI_Allreduce(&builds, &builds_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  int most = 0;
+  MPI_Allreduce(&most_contacts_, &most, 1, MPI_INT, MPI_MAX, world);
   if (comm->me == 0 && timed_steps_ > 0) {
-    char line[256];
+    char line[320];
     snprintf(line, sizeof line,
              "fix %s wall/gran/corotating: contact handling %.4g ms/step (slowest rank, %lld steps), "
-             "%.0f candidate lists built\n",
-             id, 1e3 * slowest / static_cast<double>(timed_steps_), static_cast<long long>(timed_steps_), builds_all);
+             "%.0f candidate lists built, at most %d contacts of one particle (max_contacts %d)\n",
+             id, 1e3 * slowest / static_cast<double>(timed_steps_), static_cast<long long>(timed_steps_), builds_all,
+             most, max_contacts_);
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
   }
@@ -639,6 +642,7 @@ double *FixWallGranCorotating::handle_contact(int i, const Screw &screw, int tri
   keys[slot] = key;
   contact_kept_[i][slot] = 1;
   ++contact_count_[i];
+  most_contacts_ = std::max(most_contacts_, contact_count_[i]);
   double *history = history_size_ ? &contact_history_[i][slot * history_size_] : nullptr;
   if (history) {
     std::fill(history, history + history_size_, 0.0);

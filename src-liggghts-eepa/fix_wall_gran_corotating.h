@@ -8,7 +8,7 @@
 //
 //   fix ID group wall/gran/corotating <fix wall/gran arguments> &
 //       corotate <mesh fix ID> origin x y z axis ax ay az period T [corotate ...] &
-//       [fixed <mesh fix ID> ...] [max_contacts K] [list_skin s] [screw_dump N prefix]
+//       [fixed <mesh fix ID> ...] [max_contacts K (64)] [list_skin s] [screw_dump N prefix]
 //
 // Output vector, 7 values per corotating or fixed mesh s (in the order given): force on the screw (N, 3),
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
@@ -124,7 +124,10 @@ class FixWallGranCorotating : public FixWallGran {
 
   // contact history with screw triangles, per particle: up to max_contacts_ slots of
   // (key, dnum values); keys < 0 are free slots
-  int max_contacts_ = 16;
+  // per-particle capacity for contacts with the named meshes: a particle pressed into a finely
+  // meshed curved surface touches many triangles at once (each one a contact, as in fix wall/gran)
+  int max_contacts_ = 64;
+  int most_contacts_ = 0;  // largest number of contacts of one particle seen (reported)
   // candidate lists hold triangles within reach + list skin; default half the neighbour skin (the
   // lists are rebuilt when a particle moves half of it in a screw's frame, where the screw's turning
   // moves every particle: docs/rotating-screws.md has the measured trade-off)

@@ -35,7 +35,7 @@ def parameters(log: str) -> dict[str, str]:
 
 
 def conveying_axial_velocity(out: Path) -> float:
-    zones = read_zones(ROOT / "build" / "meshes" / "consigma1-periodic-20um" / "zones.txt")
+    zones = read_zones(out / "zones.txt")  # run_case.py copies the run's zones file
     stats = read_element_statistics(out / "elements.txt")
     mass = stats.column("mass")
     conveying = np.array([k == "conveying" for k in zones.kind])
