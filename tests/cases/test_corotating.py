@@ -98,7 +98,7 @@ def run_paths(workdir: Path, drive: str, mesh_dir: Path, atoms: str, *, periodic
 
 
 def read_dump(path: Path) -> list[tuple[int, np.ndarray]]:
-    """(step, rows id x y z fx fy fz tqx tqy tqz sorted by id) per frame."""
+    """(step, rows of the dump's columns, sorted by id) per frame."""
     frames = []
     lines = path.read_text().splitlines()
     i = 0
@@ -286,3 +286,25 @@ def test_more_screw_contacts_than_max_contacts_is_a_clear_error(tmp_path, period
                        extra_drive=text, expect_error=True)
     assert "screw triangles at once; raise max_contacts" in run.stdout + run.stderr + run.log
     assert "max_contacts = 1" in run.stdout + run.stderr + run.log
+
+
+def test_per_particle_wall_force_output_equals_the_stock_one(tmp_path, periodic_meshes):
+    """fix wall/gran's store_force (per-particle wall force) works for the corotating meshes too."""
+    atoms = atoms_in_bores(np.random.default_rng(37), 150, [(0.0, PERIODIC_LENGTH)])
+    output = ("dump wallforce all custom 1 ${restart_file}_wallforce id f_force_walls[1] f_force_walls[2] "
+              "f_force_walls[3]\ndump_modify wallforce sort id format \"%d %.17g %.17g %.17g\"\n")
+    frames = {}
+    for name in ("stock", "corotating"):
+        text = (INPUTS / f"drive_{name}.in").read_text().replace(
+            "rolling_friction cdt", "rolling_friction cdt store_force yes", 1) + output
+        run_paths(tmp_path / name, name, periodic_meshes, atoms, periodic=True, nsteps=100, extra_drive=text)
+        frames[name] = read_dump(tmp_path / name / "restart_wallforce")
+    worst, compared = 0.0, 0
+    for (step, stock), (_, corotating) in zip(frames["stock"][1:], frames["corotating"][1:]):
+        size = np.linalg.norm(stock[:, 1:], axis=1)
+        large = size > SMALL_SHARE * size.max()
+        compared += int(large.sum())
+        worst = max(worst, float((np.linalg.norm(stock[:, 1:] - corotating[:, 1:], axis=1)[large] / size[large]).max()))
+    print("store_force:", worst, compared)
+    assert compared > 500 and worst <= RELATIVE
+
