@@ -294,11 +294,22 @@ def test_per_particle_wall_force_output_equals_the_stock_one(tmp_path, periodic_
     output = ("dump wallforce all custom 1 ${restart_file}_wallforce id f_force_walls[1] f_force_walls[2] "
               "f_force_walls[3]\ndump_modify wallforce sort id format \"%d %.17g %.17g %.17g\"\n")
     frames = {}
+    # the corotating fix's output vector: force on screw 1, screw 2 and the barrel (7 values each)
+    loads = ('fix loads all print 1 "$(step) ' + " ".join(f"$(f_walls[{7 * m + k}])" for m in range(3) for k in (1, 2, 3))
+             + '" file ${restart_file}_loads screen no\n')
     for name in ("stock", "corotating"):
         text = (INPUTS / f"drive_{name}.in").read_text().replace(
             "rolling_friction cdt", "rolling_friction cdt store_force yes", 1) + output
+        if name == "corotating":
+            text += loads
         run_paths(tmp_path / name, name, periodic_meshes, atoms, periodic=True, nsteps=100, extra_drive=text)
         frames[name] = read_dump(tmp_path / name / "restart_wallforce")
+    # action and reaction: the meshes' total force is minus the sum of the particles' wall forces
+    loads_table = np.loadtxt(tmp_path / "corotating" / "restart_loads")
+    for step, rows in frames["corotating"][1:]:
+        on_meshes = loads_table[loads_table[:, 0] == step, 1:].reshape(3, 3).sum(axis=0)
+        on_particles = rows[:, 1:].sum(axis=0)
+        assert np.allclose(on_meshes, -on_particles, rtol=1e-12, atol=1e-12 * np.abs(rows[:, 1:]).sum()), step
     worst, compared = 0.0, 0
     for (step, stock), (_, corotating) in zip(frames["stock"][1:], frames["corotating"][1:]):
         size = np.linalg.norm(stock[:, 1:], axis=1)
