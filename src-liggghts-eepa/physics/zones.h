@@ -15,7 +15,10 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstdio>
+#include <cstring>
 #include <istream>
 #include <sstream>
 #include <stdexcept>
@@ -181,6 +184,78 @@ inline std::size_t first_zone_ending_after(const std::vector<Zone> &zones, doubl
     else lo = mid + 1;
   }
   return lo;
+}
+
+// ---- identity of a zone set (restart files) -------------------------------------------------------
+// A restart must continue with the zones it was written with: cells of two zone sets must not mix.
+// identity() lists what defines the set: {count, content hash (high, low 32 bits), then per zone
+// type, x_start, x_end, free_volume}; the content hash is 64-bit FNV-1a over the bytes of those values
+// (comments and number formatting in the file do not change it). All entries are exact in a double.
+constexpr int kIdentityHead = 3;
+constexpr int kIdentityPerZone = 4;
+
+inline std::uint64_t content_hash(const std::vector<Zone> &zones) {
+  std::uint64_t hash = 14695981039346656037ull;  // FNV-1a offset basis and prime (64 bit)
+  auto mix = [&hash](double value) {
+    unsigned char bytes[sizeof value];
+    std::memcpy(bytes, &value, sizeof value);
+    for (unsigned char byte : bytes) {
+      hash ^= byte;
+      hash *= 1099511628211ull;
+    }
+  };
+  for (const Zone &zone : zones) {
+    mix(static_cast<double>(zone.type));
+    mix(zone.x_start);
+    mix(zone.x_end);
+    mix(zone.free_volume);
+  }
+  return hash;
+}
+
+inline std::string hash_text(std::uint64_t hash) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+inline std::vector<double> identity(const std::vector<Zone> &zones) {
+  const std::uint64_t hash = content_hash(zones);
+  std::vector<double> out{static_cast<double>(zones.size()), static_cast<double>(hash >> 32),
+                          static_cast<double>(hash & 0xffffffffull)};
+  for (const Zone &zone : zones)
+    out.insert(out.end(), {static_cast<double>(zone.type), zone.x_start, zone.x_end, zone.free_volume});
+  return out;
+}
+
+inline std::size_t identity_size(const double *stored) {
+  return kIdentityHead + kIdentityPerZone * static_cast<std::size_t>(stored[0]);
+}
+
+// "" when `stored` (an identity() written earlier) describes `zones`; otherwise what differs first,
+// e.g. "zone 2 x_start: 0.03 in the restart file, 0.035 now".
+inline std::string identity_difference(const double *stored, const std::vector<Zone> &zones) {
+  using detail::number;
+  const std::vector<double> now = identity(zones);
+  const std::size_t count = static_cast<std::size_t>(stored[0]);
+  const std::uint64_t stored_hash = (static_cast<std::uint64_t>(stored[1]) << 32) | static_cast<std::uint64_t>(stored[2]);
+  const std::string hashes = " (content hash " + hash_text(stored_hash) + " in the restart file, " +
+                             hash_text(content_hash(zones)) + " now)";
+  if (count != zones.size())
+    return std::to_string(count) + " zones in the restart file, " + std::to_string(zones.size()) + " now" + hashes;
+  const char *fields[kIdentityPerZone] = {"type", "x_start", "x_end", "free_volume"};
+  for (std::size_t z = 0; z < count; ++z)
+    for (int f = 0; f < kIdentityPerZone; ++f) {
+      const std::size_t k = kIdentityHead + kIdentityPerZone * z + static_cast<std::size_t>(f);
+      if (std::memcmp(&stored[k], &now[k], sizeof(double)) == 0) continue;
+      const auto show = [f](double value) {
+        return f == 0 ? std::string(type_name(static_cast<ZoneType>(static_cast<int>(value)))) : number(value);
+      };
+      return "zone " + std::to_string(z + 1) + " " + fields[f] + ": " + show(stored[k]) + " in the restart file, " +
+             show(now[k]) + " now" + hashes;
+    }
+  if (stored[1] != now[1] || stored[2] != now[2]) return "the content hashes differ" + hashes;
+  return "";
 }
 
 }  // namespace tsg::zones

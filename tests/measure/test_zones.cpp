@@ -1,6 +1,7 @@
 // Unit tests of the zones-file parser and look-ups (src-liggghts-eepa/physics/zones.h).
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -126,3 +127,61 @@ TEST(ZonesFile, FindZoneIsHalfOpenAndKnowsGaps) {
 }
 
 }  // namespace
+
+// ---- identity of a zone set (what a restart file keeps) ------------------------------------------
+
+namespace {
+
+const char *kFourZones =
+    "1 conveying 0.01 0.03 2e-6\n2 kneading 0.03 0.04 1e-6\n3 chopping 0.05 0.07 2e-6\n4 kneading 0.07 0.08 1e-6\n";
+
+}  // namespace
+
+TEST(ZonesIdentity, SameZonesWrittenDifferentlyAreTheSame) {
+  // comments, blank lines and number formatting do not change what the zones are
+  const auto a = tsg::zones::parse_zones_text(kFourZones, "a");
+  const auto b = tsg::zones::parse_zones_text(
+      "# regenerated\n1 conveying 1.0e-2 3.0e-2 2.0e-6\n\n2 kneading 0.030 0.040 0.000001\n"
+      "3 chopping 5e-2 7e-2 2e-6\n4 kneading 0.07 0.08 1e-6\n", "b");
+  const auto stored = tsg::zones::identity(a);
+  ASSERT_EQ(stored.size(), 3u + 4u * 4u);
+  EXPECT_EQ(tsg::zones::identity_size(stored.data()), stored.size());
+  EXPECT_EQ(tsg::zones::identity_difference(stored.data(), b), "");
+  EXPECT_EQ(tsg::zones::content_hash(a), tsg::zones::content_hash(b));
+}
+
+TEST(ZonesIdentity, HashHalvesAreExactInADouble) {
+  const auto zones = tsg::zones::parse_zones_text(kFourZones, "a");
+  const auto stored = tsg::zones::identity(zones);
+  const std::uint64_t hash = tsg::zones::content_hash(zones);
+  EXPECT_EQ(static_cast<std::uint64_t>(stored[1]), hash >> 32);
+  EXPECT_EQ(static_cast<std::uint64_t>(stored[2]), hash & 0xffffffffull);
+}
+
+TEST(ZonesIdentity, AShiftedZoneIsNamedWithBothValues) {
+  // the case of the issue: the same count, one boundary moved by 5 mm
+  const auto before = tsg::zones::parse_zones_text(kFourZones, "a");
+  const auto after = tsg::zones::parse_zones_text(
+      "1 conveying 0.01 0.035 2e-6\n2 kneading 0.035 0.04 1e-6\n3 chopping 0.05 0.07 2e-6\n4 kneading 0.07 0.08 1e-6\n",
+      "b");
+  const std::string message = tsg::zones::identity_difference(tsg::zones::identity(before).data(), after);
+  EXPECT_NE(message.find("zone 1 x_end: 0.03 in the restart file, 0.035 now"), std::string::npos) << message;
+  EXPECT_NE(message.find("content hash " + tsg::zones::hash_text(tsg::zones::content_hash(before))), std::string::npos)
+      << message;
+  EXPECT_NE(tsg::zones::content_hash(before), tsg::zones::content_hash(after));
+}
+
+TEST(ZonesIdentity, CountTypeAndFreeVolumeDifferencesAreNamed) {
+  const auto base = tsg::zones::parse_zones_text(kFourZones, "a");
+  const auto stored = tsg::zones::identity(base);
+  const auto fewer = tsg::zones::parse_zones_text("1 conveying 0.01 0.03 2e-6\n", "b");
+  EXPECT_EQ(tsg::zones::identity_difference(stored.data(), fewer).rfind("4 zones in the restart file, 1 now", 0), 0u);
+  auto retyped = base;
+  retyped[2].type = tsg::zones::ZoneType::kneading;
+  EXPECT_NE(tsg::zones::identity_difference(stored.data(), retyped).find("zone 3 type: chopping in the restart file, kneading now"),
+            std::string::npos);
+  auto volume = base;
+  volume[3].free_volume = 1.5e-6;
+  EXPECT_NE(tsg::zones::identity_difference(stored.data(), volume).find("zone 4 free_volume: 1e-06 in the restart file, 1.5e-06 now"),
+            std::string::npos);
+}
