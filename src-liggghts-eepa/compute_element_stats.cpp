@@ -8,12 +8,13 @@
 #include "atom.h"
 #include "domain.h"
 #include "error.h"
-#include "fix_residence_time.h"  // tsg_read_zones
 #include "memory.h"
 #include "update.h"
 
+#include "measure_common.h"
 #include "sphere_slab.h"
 #include "zone_overlap.h"
+#include "zones_file.h"
 
 using namespace LAMMPS_NS;
 
@@ -26,9 +27,9 @@ ComputeElementStats::ComputeElementStats(LAMMPS *lmp, int &iarg, int narg, char 
 {
   const std::string who = std::string("compute ") + id + " element/stats";
   if (narg - iarg != 2 || std::string(arg[iarg]) != "zones")
-    error->all(FLERR, (who + ": expected 'compute ID group element/stats zones ZONES_FILE'").c_str());
+    tsg::measure::fail(lmp, who, "expected 'compute ID group element/stats zones ZONES_FILE'");
   zones_path_ = arg[iarg + 1];
-  zones_ = tsg_read_zones(lmp, arg[iarg + 1], who);
+  zones_ = tsg::measure::read_zones(lmp, zones_path_, who);
   iarg += 2;
   const int rows = static_cast<int>(zones_.size());
   array_flag = 1;
@@ -40,19 +41,22 @@ ComputeElementStats::ComputeElementStats(LAMMPS *lmp, int &iarg, int narg, char 
   global_.assign(local_.size(), 0.0);
 }
 
-ComputeElementStats::~ComputeElementStats() { memory->destroy(array); }
+ComputeElementStats::~ComputeElementStats()
+{
+  memory->destroy(array);
+  tsg::run_files::release(std::string("compute ") + id + " element/stats");
+}
 
 void ComputeElementStats::init()
 {
   const std::string who = std::string("compute ") + id + " element/stats";
   if (!atom->radius_flag || !atom->rmass_flag)
-    error->all(FLERR, (who + " needs per-particle radius and mass (atom_style granular or sphere)").c_str());
-  const bool fixed_box = domain->boundary[0][0] <= 1 && domain->boundary[0][1] <= 1;
-  if (fixed_box) {
+    tsg::measure::fail(lmp, who, "needs per-particle radius and mass (atom_style granular or sphere)");
+  if (tsg::measure::fixed_box_x(domain)) {
     try {
       tsg::zones::check_inside(zones_, domain->boxlo[0], domain->boxhi[0], "zones file '" + zones_path_ + "'");
     } catch (const std::invalid_argument &e) {
-      error->all(FLERR, (who + ": " + e.what()).c_str());
+      tsg::measure::fail(lmp, who, e.what());
     }
   }
 }

@@ -18,70 +18,61 @@
 #include "output.h"
 #include "update.h"
 
+#include "measure_common.h"
 #include "plane_crossing.h"
 
 using namespace LAMMPS_NS;
 
-namespace {
-std::string number(double value) {
-  char buffer[32];
-  snprintf(buffer, sizeof buffer, "%.10g", value);
-  return buffer;
-}
-}  // namespace
+using tsg::measure::fail;
+using tsg::measure::number;
 
 FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg)
-  : Fix(lmp, narg, arg), window_(0), append_(false), fp_(nullptr), bounds_(nullptr), side_(nullptr), nside_(0), near_usable_(false), reach_(0), window_time_(0),
-    clock_offset_(0), clock_from_restart_(false), restart_time_(0), restart_step_(0)
+  : Fix(lmp, narg, arg), window_(0), append_(tsg::measure::Append::automatic), continuing_(false), file_opened_(false),
+    fp_(nullptr), bounds_(nullptr), side_(nullptr), nside_(0), near_usable_(false), reach_(0), window_time_(0)
 {
   const std::string who = std::string("fix ") + id + " massflow/planes";
   bool have_planes = false;
   for (int iarg = 3; iarg < narg;) {
     const std::string key = arg[iarg];
     if (key == "planes") {
-      char *end = nullptr;
-      const long k = iarg + 1 < narg ? strtol(arg[iarg + 1], &end, 10) : 0;
-      if (iarg + 1 >= narg || *end != '\0' || k < 1 || k > 1000)
-        error->all(FLERR, (who + ": 'planes K X1 ... XK' needs a sensor count K between 1 and 1000, got '" +
-                           (iarg + 1 < narg ? arg[iarg + 1] : "") + "'").c_str());
+      long k = 0;
+      if (iarg + 1 >= narg || !tsg::measure::parse_integer(arg[iarg + 1], 1, 1000, k))
+        fail(lmp, who, std::string("'planes K X1 ... XK' needs a sensor count K between 1 and 1000, got '") +
+                           (iarg + 1 < narg ? arg[iarg + 1] : "") + "'");
       if (iarg + 1 + k >= narg)
-        error->all(FLERR, (who + ": 'planes " + arg[iarg + 1] + "' needs " + std::to_string(k) + " positions").c_str());
+        fail(lmp, who, std::string("'planes ") + arg[iarg + 1] + "' needs " + std::to_string(k) + " positions");
       for (long j = 0; j < k; ++j) {
         const char *text = arg[iarg + 2 + j];
-        char *stop = nullptr;
-        errno = 0;
-        const double x = strtod(text, &stop);
-        if (*stop != '\0' || errno == ERANGE || !std::isfinite(x))
-          error->all(FLERR, (who + ": plane " + std::to_string(j + 1) + " position '" + text +
-                             "' is not a finite number (m); 'planes " + std::to_string(k) + "' needs " +
-                             std::to_string(k) + " positions").c_str());
+        double x = 0;
+        if (!tsg::measure::parse_real(text, x))
+          fail(lmp, who, "plane " + std::to_string(j + 1) + " position '" + text + "' is not a finite number (m); 'planes " +
+                             std::to_string(k) + "' needs " + std::to_string(k) + " positions");
         planes_.push_back(x);
       }
       have_planes = true;
       iarg += 2 + static_cast<int>(k);
     } else if (key == "window") {
-      char *end = nullptr;
-      const long n = iarg + 1 < narg ? strtol(arg[iarg + 1], &end, 10) : 0;
-      if (iarg + 1 >= narg || *end != '\0' || n < 1 || n > 2000000000L)
-        error->all(FLERR, (who + ": window = '" + (iarg + 1 < narg ? arg[iarg + 1] : "") +
-                           "' must be a positive number of steps").c_str());
+      long n = 0;
+      if (iarg + 1 >= narg || !tsg::measure::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
+        fail(lmp, who, std::string("window = '") + (iarg + 1 < narg ? arg[iarg + 1] : "") +
+                           "' must be a positive number of steps");
       window_ = static_cast<int>(n);
       iarg += 2;
     } else if (key == "file") {
-      if (iarg + 1 >= narg) error->all(FLERR, (who + ": 'file' needs a file name").c_str());
+      if (iarg + 1 >= narg) fail(lmp, who, "'file' needs a file name");
       path_ = arg[iarg + 1];
       iarg += 2;
     } else if (key == "append") {
-      if (iarg + 1 >= narg || (strcmp(arg[iarg + 1], "yes") != 0 && strcmp(arg[iarg + 1], "no") != 0))
-        error->all(FLERR, (who + ": append must be 'yes' or 'no'").c_str());
-      append_ = strcmp(arg[iarg + 1], "yes") == 0;
+      if (iarg + 1 >= narg) fail(lmp, who, "append needs 'yes' or 'no'");
+      append_ = tsg::measure::parse_append(lmp, who, arg[iarg + 1]);
       iarg += 2;
     } else {
-      error->all(FLERR, (who + ": unknown keyword '" + key + "' (allowed: planes, window, file, append)").c_str());
+      fail(lmp, who, "unknown keyword '" + key + "' (allowed: planes, window, file, append)");
     }
   }
-  if (!have_planes) error->all(FLERR, (who + ": missing 'planes K X1 ... XK'").c_str());
-  if (window_ == 0) error->all(FLERR, (who + ": missing 'window N' (averaging window, steps)").c_str());
+  if (!have_planes) fail(lmp, who, "missing 'planes K X1 ... XK'");
+  if (window_ == 0) fail(lmp, who, "missing 'window N' (averaging window, steps)");
+  if (!path_.empty()) tsg::measure::claim_output(lmp, who, "mass-flow file", path_);
 
   nevery = 1;
   vector_flag = 1;
@@ -100,24 +91,25 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg)
   atom->add_callback(0);
   atom->add_callback(1);
 
-  if (!path_.empty() && comm->me == 0) {
-    fp_ = fopen(path_.c_str(), append_ ? "a" : "w");
-    if (!fp_)
-      error->one(FLERR, (who + ": cannot open file '" + path_ + "' for writing: " + strerror(errno)).c_str());
-    fseek(fp_, 0, SEEK_END);
-    if (ftell(fp_) == 0) {
-      std::string header = "# tsg-dem mass flow v1\n";
-      header += std::string("# fix ") + id + " massflow/planes, group " + group->names[igroup] + "; window " +
-                std::to_string(window_) + " steps; signed mass flow rate (+ towards +x), kg/h\n";
-      for (size_t k = 0; k < planes_.size(); ++k)
-        header += "# sensor_" + std::to_string(k + 1) + " at x = " + number(planes_[k]) + " m\n";
-      header += "# columns: step time";
-      for (size_t k = 0; k < planes_.size(); ++k) header += " sensor_" + std::to_string(k + 1);
-      header += "\n";
-      fputs(header.c_str(), fp_);
-      fflush(fp_);
-    }
-  }
+  // the file is opened when the first run starts: by then a restart file has told the fix whether it
+  // continues an earlier measurement (restart() is called after the constructor)
+}
+
+// Rank 0 opens the file (append or new, see measure_common.h open_output) with its header.
+void FixMassflowPlanes::open_file()
+{
+  file_opened_ = true;
+  if (path_.empty()) return;
+  std::string header = "# tsg-dem mass flow v1\n";
+  header += std::string("# fix ") + id + " massflow/planes, group " + group->names[igroup] + "\n";
+  header += "# window " + std::to_string(window_) + " steps; signed mass flow rate (+ towards +x), kg/h\n";
+  for (size_t k = 0; k < planes_.size(); ++k)
+    header += "# sensor_" + std::to_string(k + 1) + " at x = " + number(planes_[k]) + " m\n";
+  header += "# columns: step time";
+  for (size_t k = 0; k < planes_.size(); ++k) header += " sensor_" + std::to_string(k + 1);
+  header += "\n";
+  fp_ = tsg::measure::open_output(lmp, std::string("fix ") + id + " massflow/planes", "mass-flow file", path_, header,
+                                  append_, continuing_, {"# fix "});
 }
 
 FixMassflowPlanes::~FixMassflowPlanes()
@@ -127,6 +119,7 @@ FixMassflowPlanes::~FixMassflowPlanes()
   memory->destroy(bounds_);
   memory->destroy(side_);
   if (fp_) fclose(fp_);
+  tsg::run_files::release(std::string("fix ") + id + " massflow/planes");
 }
 
 int FixMassflowPlanes::setmask() { return FixConst::END_OF_STEP; }
@@ -134,37 +127,22 @@ int FixMassflowPlanes::setmask() { return FixConst::END_OF_STEP; }
 void FixMassflowPlanes::init()
 {
   const std::string who = std::string("fix ") + id + " massflow/planes";
-  if (!atom->rmass_flag) error->all(FLERR, (who + " needs per-particle mass (atom_style granular or sphere)").c_str());
-  const double lo = domain->boxlo[0], hi = domain->boxhi[0];
-  const bool fixed_box = domain->boundary[0][0] <= 1 && domain->boundary[0][1] <= 1;
-  if (fixed_box)
-    for (size_t k = 0; k < planes_.size(); ++k) {
-      const double x = planes_[k];
-      if (x < lo || x > hi || (domain->xperiodic && x >= hi))
-        error->all(FLERR, (who + ": plane " + std::to_string(k + 1) + " at x = " + number(x) +
-                           " lies outside the simulation box along x [" + number(lo) + ", " + number(hi) +
-                           (domain->xperiodic ? ")" : "]")).c_str());
-    }
+  if (!atom->rmass_flag) fail(lmp, who, "needs per-particle mass (atom_style granular or sphere)");
+  if (tsg::measure::fixed_box_x(domain))
+    for (size_t k = 0; k < planes_.size(); ++k)
+      tsg::measure::check_plane_in_box(lmp, who, "plane " + std::to_string(k + 1) + " at", planes_[k], domain->xperiodic);
   near_usable_ = neighbor->dist_check && neighbor->every == 1 && neighbor->delay == 0 && !neighbor->build_once &&
                  !atom->radvary_flag;
   reach_ = neighbor->skin;
+  if (!file_opened_) open_file();
 }
 
 double FixMassflowPlanes::unwrapped_x(int i, double near) const
 {
-  double u = atom->x[i][0];
-  if (!domain->xperiodic) return u;
-  const double length = domain->xprd;
-  u += ((atom->image[i] & IMGMASK) - IMGMAX) * length;
-  const double span = 2.0 * IMGMAX * length;  // image flags wrap after IMGMAX periods
-  if (std::isfinite(near)) {
-    while (u - near > 0.5 * span) u -= span;
-    while (near - u > 0.5 * span) u += span;
-  }
-  return u;
+  return tsg::measure::unwrapped_x(atom, domain, i, near);
 }
 
-double FixMassflowPlanes::now() const { return update->get_cur_time() + clock_offset_; }
+double FixMassflowPlanes::now() const { return clock_.now(update); }
 
 double FixMassflowPlanes::period() const { return domain->xperiodic ? domain->xprd : 0.0; }
 
@@ -203,11 +181,7 @@ void FixMassflowPlanes::place(int i, double u)
 
 void FixMassflowPlanes::setup(int)
 {
-  if (clock_from_restart_) {
-    clock_offset_ = restart_time_ + static_cast<double>(update->ntimestep - static_cast<bigint>(restart_step_)) * update->dt -
-                    update->get_cur_time();
-    clock_from_restart_ = false;
-  }
+  clock_.resume(update);
   // first sight of particles present now; positions changed between runs (set, displace_atoms) are
   // taken as they are, without counting
   near_.clear();
@@ -234,13 +208,13 @@ void FixMassflowPlanes::end_of_step()
       if (!(mask[i] & groupbit)) continue;
       count_one(i, length);
       if (!near_usable_) continue;
-      const double u = x[3 * i] + (length > 0 ? ((image[i] & IMGMASK) - IMGMAX) * length : 0.0);
+      const double u = tsg::measure::unwrapped_x_fast(x, image, i, length);
       const double lo = bounds_[i][0], hi = bounds_[i][1];
       if (u - lo < reach_ || hi - u <= reach_) near_.push_back({i, lo, hi});
     }
   } else {
     for (Near &n : near_) {
-      const double u = x[3 * n.i] + (length > 0 ? ((image[n.i] & IMGMASK) - IMGMAX) * length : 0.0);
+      const double u = tsg::measure::unwrapped_x_fast(x, image, n.i, length);
       if (u >= n.lo && u < n.hi) continue;
       count_one(n.i, length);
       n.lo = bounds_[n.i][0];
@@ -273,8 +247,7 @@ void FixMassflowPlanes::end_of_step()
 
 void FixMassflowPlanes::count_one(int i, double length)
 {
-  double u = atom->x[i][0];
-  if (length > 0) u += ((atom->image[i] & IMGMASK) - IMGMAX) * length;
+  double u = tsg::measure::unwrapped_x_fast(atom->x[0], atom->image, i, length);
   const double *b = bounds_[i];
   if (u >= b[0] && u < b[1]) return;  // the common case: no plane anywhere near
   double *side = side_[i];
@@ -343,9 +316,9 @@ void FixMassflowPlanes::unpack_restart(int nlocal, int nth)
   int m = 0;
   for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
   if (static_cast<int>(extra[nlocal][m]) != 3 + nside_)
-    error->one(FLERR, (std::string("fix ") + id + " massflow/planes: the restart file holds " +
+    tsg::measure::fail_one(lmp, std::string("fix ") + id + " massflow/planes", std::string("the restart file holds ") +
                        std::to_string(static_cast<int>(extra[nlocal][m]) - 3) + " sides per particle, this fix needs " +
-                       std::to_string(nside_) + " (a different number of planes?)").c_str());
+                       std::to_string(nside_) + " (a different number of planes?)");
   bounds_[nlocal][0] = extra[nlocal][m + 1];
   bounds_[nlocal][1] = extra[nlocal][m + 2];
   std::copy(&extra[nlocal][m + 3], &extra[nlocal][m + 3] + nside_, side_[nlocal]);
@@ -355,18 +328,22 @@ int FixMassflowPlanes::size_restart(int) { return 3 + nside_; }
 
 int FixMassflowPlanes::maxsize_restart() { return 3 + nside_; }
 
-// global state: the open window (duration, net mass) and the last rates. Only rank 0 writes, so the
-// open window's mass is first summed onto rank 0 (consolidate(): at restart steps and after runs).
+// global state: a format mark, the sensor positions (a restart must continue with the same sensors),
+// the open window (duration, net mass), the last rates and the clock. Only rank 0 writes,
+// so the open window's mass is first summed onto rank 0 (consolidate(): at restart steps and after
+// runs).
+namespace {
+constexpr double kRestartMark = -20261202.0;  // not a sensor count: marks this layout
+}
+
 void FixMassflowPlanes::write_restart(FILE *fp)
 {
-  const size_t n = planes_.size();
-  std::vector<double> list;
-  list.push_back(static_cast<double>(n));
-  list.push_back(window_time_);
+  std::vector<double> list{kRestartMark, static_cast<double>(planes_.size()), window_time_};
+  list.insert(list.end(), planes_.begin(), planes_.end());
   list.insert(list.end(), rate_.begin(), rate_.end());
   list.insert(list.end(), mass_.begin(), mass_.end());
-  list.push_back(now());
-  list.push_back(static_cast<double>(update->ntimestep));
+  list.resize(list.size() + 2);
+  clock_.save(update, &list[list.size() - 2], &list[list.size() - 1]);
   if (comm->me == 0) {
     int size = static_cast<int>(list.size() * sizeof(double));
     fwrite(&size, sizeof(int), 1, fp);
@@ -386,18 +363,29 @@ void FixMassflowPlanes::post_run() { consolidate(); }
 
 void FixMassflowPlanes::restart(char *buf)
 {
+  const std::string who = std::string("fix ") + id + " massflow/planes";
   const double *list = reinterpret_cast<const double *>(buf);
-  const size_t n = static_cast<size_t>(list[0]);
-  if (n != planes_.size())
-    error->all(FLERR, (std::string("fix ") + id + " massflow/planes: the restart file has " + std::to_string(n) +
-                       " sensors, this fix " + std::to_string(planes_.size())).c_str());
-  window_time_ = list[1];
-  for (size_t k = 0; k < n; ++k) rate_[k] = list[2 + k];
+  if (list[0] != kRestartMark)
+    fail(lmp, who, "the restart file was written by an earlier version of this fix, which did not keep its "
+                   "sensor positions; continue from a restart file written by this version");
+  const size_t n = static_cast<size_t>(list[1]);
+  const double *positions = list + 3;
+  std::string stored;
+  for (size_t k = 0; k < n; ++k) stored += (k ? " " : "") + number(positions[k]);
+  std::string now_planes;
+  for (size_t k = 0; k < planes_.size(); ++k) now_planes += (k ? " " : "") + number(planes_[k]);
+  if (n != planes_.size() || !std::equal(planes_.begin(), planes_.end(), positions))
+    fail(lmp, who, "the restart file was written with planes " + std::to_string(n) + " " + stored + ", this fix has planes " +
+                       std::to_string(planes_.size()) + " " + now_planes +
+                       "; a mass-flow record cannot mix two sets of sensors: use the planes of the earlier run, or "
+                       "start a new record (a new fix ID and file)");
+  window_time_ = list[2];
+  const double *rest = positions + n;
+  for (size_t k = 0; k < n; ++k) rate_[k] = rest[k];
   // the open window's mass (consolidated on rank 0 when written) restarts on rank 0
-  for (size_t k = 0; k < n; ++k) mass_[k] = comm->me == 0 ? list[2 + n + k] : 0.0;
-  restart_time_ = list[2 + 2 * n];
-  restart_step_ = list[3 + 2 * n];
-  clock_from_restart_ = true;
+  for (size_t k = 0; k < n; ++k) mass_[k] = comm->me == 0 ? rest[n + k] : 0.0;
+  clock_.load(rest[2 * n], rest[2 * n + 1]);
+  continuing_ = true;
 }
 
 double FixMassflowPlanes::memory_usage() { return static_cast<double>(atom->nmax) * (2 + nside_) * sizeof(double); }

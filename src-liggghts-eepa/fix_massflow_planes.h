@@ -1,6 +1,7 @@
 // fix massflow/planes — signed mass flow rate through axial planes (mass-flow sensors), kg/h.
 //
 //   fix ID group massflow/planes planes K X1 ... XK window N [file FILE] [append yes|no]
+//     append: as fix residence/time (default: append when continuing from a restart file)
 //
 // Every step each particle's unwrapped axial coordinate is compared with the previous step's; each
 // crossing of a plane x = Xk (on a periodic x axis: of any image Xk + jL) adds the particle's mass,
@@ -21,6 +22,7 @@ FixStyle(massflow/planes,FixMassflowPlanes)
 #include <vector>
 
 #include "fix.h"
+#include "measure_common.h"
 
 namespace LAMMPS_NS {
 
@@ -53,12 +55,15 @@ private:
   double period() const;
   void consolidate();
   double now() const;
+  void open_file();
 
   std::vector<double> planes_;
   int window_;
   std::string path_;
-  bool append_;
-  FILE *fp_;
+  tsg::measure::Append append_;
+  bool continuing_;    // restored from a restart file: the file continues
+  bool file_opened_;
+  FILE *fp_;           // rank 0
   void place(int i, double u);
 
   // per atom, the only data read every step: the interval [lo, hi) between plane images it lies in,
@@ -81,10 +86,7 @@ private:
   std::vector<double> mass_;    // net mass through each plane in the open window, this rank, kg
   double window_time_;          // duration of the open window so far, s
   std::vector<double> rate_;    // last completed window, kg/h
-  // the clock across a restart (LIGGGHTS 3.8 restarts its time at 0): see fix residence/time
-  double clock_offset_;
-  bool clock_from_restart_;
-  double restart_time_, restart_step_;
+  tsg::measure::RestartClock clock_;  // the clock across a restart (LIGGGHTS 3.8 restarts its time at 0)
 };
 
 }  // namespace LAMMPS_NS

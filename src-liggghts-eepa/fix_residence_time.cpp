@@ -38,71 +38,26 @@
 #include "update.h"
 
 #include "axial_partition.h"
+#include "measure_common.h"
+#include "zones_file.h"
 
 using namespace LAMMPS_NS;
 namespace res = tsg::residence;
 using res::Slot;
 
+using tsg::measure::fail;
+using tsg::measure::number;
+
 namespace {
-
-bool parse_double(const char *text, double &value) {
-  if (!text || !*text) return false;
-  char *end = nullptr;
-  errno = 0;
-  value = std::strtod(text, &end);
-  return *end == '\0' && errno != ERANGE && std::isfinite(value);
-}
-
-std::string number(double value) {
-  char buffer[32];
-  snprintf(buffer, sizeof buffer, "%.10g", value);
-  return buffer;
-}
-
 constexpr int kRecordHead = 8;  // id entry exit residence reason type_time[3]
-
 }  // namespace
-
-// Reads and parses a zones file: rank 0 reads it, every rank parses the same text, so a bad file
-// stops all ranks with the same message.
-std::vector<tsg::zones::Zone> tsg_read_zones(LAMMPS *lmp, const char *path, const std::string &who)
-{
-  int me = 0;
-  MPI_Comm_rank(lmp->world, &me);
-  std::string text;
-  long size = 0;
-  if (me == 0) {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) {
-      size = -1;
-    } else {
-      char buffer[4096];
-      size_t n;
-      while ((n = fread(buffer, 1, sizeof buffer, fp)) > 0) text.append(buffer, n);
-      fclose(fp);
-      size = static_cast<long>(text.size());
-    }
-  }
-  MPI_Bcast(&size, 1, MPI_LONG, 0, lmp->world);
-  if (size < 0)
-    lmp->error->all(FLERR, (who + ": cannot open zones file '" + path + "' (missing or not readable)").c_str());
-  text.resize(static_cast<size_t>(size));
-  if (size > 0) MPI_Bcast(&text[0], static_cast<int>(size), MPI_CHAR, 0, lmp->world);
-  try {
-    return tsg::zones::parse_zones_text(text, std::string("zones file '") + path + "'");
-  } catch (const std::invalid_argument &e) {
-    lmp->error->all(FLERR, (who + ": " + e.what()).c_str());
-  }
-  return {};
-}
 
 FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
   : Fix(lmp, narg, arg), plane_inlet_(0), plane_outlet_(0), plane_reference_(0),
     analysis_lo_(-INFINITY), analysis_hi_(INFINITY), has_analysis_(false), existing_given_(false),
-    write_inside_(false), append_(false), flush_every_(1000), flush_given_(false), first_setup_done_(false),
-    nvalues_(0), state_(nullptr), bounds_(nullptr), inside_(nullptr), near_usable_(false), reach_(0), fp_(nullptr), transit_entries_(0), packs_(0), arrivals_(0),
-    cache_valid_(false), inside_now_(0), clock_offset_(0), clock_from_restart_(false), restart_time_(0),
-    restart_step_(0)
+    write_inside_(false), append_(tsg::measure::Append::automatic), continuing_(false), flush_every_(1000), flush_given_(false), first_setup_done_(false),
+    nvalues_(0), state_(nullptr), bounds_(nullptr), inside_(nullptr), near_usable_(false), reach_(0), fp_(nullptr),
+    transit_entries_(0), packs_(0), arrivals_(0), cache_valid_(false), inside_now_(0)
 {
   const std::string who = std::string("fix ") + id + " residence/time";
   const char *zones_file = nullptr;
@@ -111,13 +66,12 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
   for (int iarg = 3; iarg < narg;) {
     const std::string key = arg[iarg];
     auto need = [&](int n) {
-      if (iarg + n >= narg)
-        error->all(FLERR, (who + ": keyword '" + key + "' needs " + std::to_string(n) + " value(s)").c_str());
+      if (iarg + n >= narg) fail(lmp, who, "keyword '" + key + "' needs " + std::to_string(n) + " value(s)");
     };
     auto real = [&](int k) {
       double value = 0;
-      if (!parse_double(arg[iarg + k], value))
-        error->all(FLERR, (who + ": " + key + " value '" + arg[iarg + k] + "' is not a finite number (m)").c_str());
+      if (!tsg::measure::parse_real(arg[iarg + k], value))
+        fail(lmp, who, key + " value '" + arg[iarg + k] + "' is not a finite number (m)");
       return value;
     };
     if (key == "zones") {
@@ -133,48 +87,46 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
     } else if (key == "analysis") {
       need(2); analysis_lo_ = real(1); analysis_hi_ = real(2); has_analysis_ = true;
       if (!(analysis_hi_ > analysis_lo_))
-        error->all(FLERR, (who + ": analysis XLO XHI = " + arg[iarg + 1] + " " + arg[iarg + 2] +
-                           " needs XLO < XHI").c_str());
+        fail(lmp, who, std::string("analysis XLO XHI = ") + arg[iarg + 1] + " " + arg[iarg + 2] + " needs XLO < XHI");
       iarg += 3;
     } else if (key == "existing") {
       need(1);
       if (strcmp(arg[iarg + 1], "tag") == 0) settings_.tag_existing = true;
       else if (strcmp(arg[iarg + 1], "wait") == 0) settings_.tag_existing = false;
-      else error->all(FLERR, (who + ": existing = '" + arg[iarg + 1] + "' must be 'tag' or 'wait'").c_str());
+      else fail(lmp, who, std::string("existing = '") + arg[iarg + 1] + "' must be 'tag' or 'wait'");
       existing_given_ = true;
       iarg += 2;
     } else if (key == "inside") {
-      need(1); write_inside_ = yes_no("inside", arg[iarg + 1]); iarg += 2;
+      need(1); write_inside_ = tsg::measure::parse_yes_no(lmp, who, "inside", arg[iarg + 1]); iarg += 2;
     } else if (key == "append") {
-      need(1); append_ = yes_no("append", arg[iarg + 1]); iarg += 2;
+      need(1); append_ = tsg::measure::parse_append(lmp, who, arg[iarg + 1]); iarg += 2;
     } else if (key == "flush") {
       need(1);
-      char *end = nullptr;
-      const long n = strtol(arg[iarg + 1], &end, 10);
-      if (*end != '\0' || n < 1 || n > 2000000000L)
-        error->all(FLERR, (who + ": flush = '" + arg[iarg + 1] + "' must be a positive integer (steps)").c_str());
+      long n = 0;
+      if (!tsg::measure::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
+        fail(lmp, who, std::string("flush = '") + arg[iarg + 1] + "' must be a positive integer (steps)");
       flush_every_ = static_cast<int>(n);
       flush_given_ = true;
       iarg += 2;
     } else {
-      error->all(FLERR, (who + ": unknown keyword '" + key +
-                         "' (allowed: zones, records, inlet, outlet, periodic, analysis, existing, inside, flush, append)").c_str());
+      fail(lmp, who, "unknown keyword '" + key +
+                         "' (allowed: zones, records, inlet, outlet, periodic, analysis, existing, inside, flush, append)");
     }
   }
-  if (!zones_file) error->all(FLERR, (who + ": missing 'zones FILE' (the zones file of the mesh generator)").c_str());
-  if (!records_file) error->all(FLERR, (who + ": missing 'records FILE' (where the records are written)").c_str());
+  if (!zones_file) fail(lmp, who, "missing 'zones FILE' (the zones file of the mesh generator)");
+  if (!records_file) fail(lmp, who, "missing 'records FILE' (where the records are written)");
   settings_.periodic = has_periodic;
   if (has_periodic && (settings_.has_inlet || settings_.has_outlet))
-    error->all(FLERR, (who + ": 'periodic' cannot be combined with 'inlet' or 'outlet' (a pass runs from one "
-                       "crossing of the reference plane to the next)").c_str());
+    fail(lmp, who, "'periodic' cannot be combined with 'inlet' or 'outlet' (a pass runs from one "
+                   "crossing of the reference plane to the next)");
   if (settings_.has_inlet && settings_.has_outlet && !(plane_outlet_ > plane_inlet_))
-    error->all(FLERR, (who + ": outlet " + number(plane_outlet_) + " must lie downstream (+x) of inlet " +
-                       number(plane_inlet_)).c_str());
+    fail(lmp, who, "outlet " + number(plane_outlet_) + " must lie downstream (+x) of inlet " + number(plane_inlet_));
   if (!existing_given_) settings_.tag_existing = !has_periodic;
 
   zones_path_ = zones_file;
   records_path_ = records_file;
-  zones_ = tsg_read_zones(lmp, zones_file, who);
+  zones_ = tsg::measure::read_zones(lmp, zones_path_, who);
+  tsg::measure::claim_output(lmp, who, "records file", records_path_);
   nvalues_ = Slot::zone0 + static_cast<int>(zones_.size());
 
   nevery = 1;
@@ -192,8 +144,8 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
   for (int i = 0; i < atom->nmax; ++i) set_arrays(i);
   atom->add_callback(0);
   atom->add_callback(1);
-
-  open_records_file();
+  // the records file is opened when the first run starts: by then a restart file has told the fix
+  // whether it continues an earlier measurement (restart() is called after the constructor)
 }
 
 FixResidenceTime::~FixResidenceTime()
@@ -204,29 +156,15 @@ FixResidenceTime::~FixResidenceTime()
   memory->destroy(bounds_);
   memory->destroy(inside_);
   if (fp_) fclose(fp_);
-}
-
-bool FixResidenceTime::yes_no(const char *keyword, const char *value)
-{
-  if (strcmp(value, "yes") == 0) return true;
-  if (strcmp(value, "no") == 0) return false;
-  error->all(FLERR, (std::string("fix ") + id + " residence/time: " + keyword + " = '" + value +
-                     "' must be 'yes' or 'no'").c_str());
-  return false;
+  tsg::run_files::release(std::string("fix ") + id + " residence/time");
 }
 
 void FixResidenceTime::open_records_file()
 {
-  if (comm->me != 0) return;
-  fp_ = fopen(records_path_.c_str(), append_ ? "a" : "w");
-  if (!fp_)
-    error->one(FLERR, (std::string("fix ") + id + " residence/time: cannot open records file '" + records_path_ +
-                       "' for writing: " + strerror(errno)).c_str());
-  fseek(fp_, 0, SEEK_END);
-  if (ftell(fp_) > 0) return;  // appending after a restart: the header is there already
   std::string header = "# tsg-dem residence records v1\n";
   header += std::string("# fix ") + id + " residence/time, group " + group->names[igroup] + "\n";
   header += "# zones file: " + zones_path_ + " (" + std::to_string(zones_.size()) + " zones)\n";
+  header += "# zones content hash: " + tsg::zones::hash_text(tsg::zones::content_hash(zones_)) + "\n";
   for (const auto &z : zones_)
     header += "# zone " + std::to_string(z.index) + " " + tsg::zones::type_name(z.type) + " " + number(z.x_start) +
               " " + number(z.x_end) + "\n";
@@ -240,8 +178,10 @@ void FixResidenceTime::open_records_file()
   header += "# times in s; residence_time = time inside the analysis domain between entry and exit; "
             "exit_reason: outlet pass deleted lost inside\n";
   header += "# columns: " + res::record_columns(static_cast<int>(zones_.size())) + "\n";
-  fputs(header.c_str(), fp_);
-  fflush(fp_);
+  // the fix id, group and the zones file's name may change between the parts of a measurement
+  fp_ = tsg::measure::open_output(lmp, std::string("fix ") + id + " residence/time", "records file", records_path_,
+                                  header, append_, continuing_, {"# fix ", "# zones file: "});
+  records_opened_ = true;
 }
 
 int FixResidenceTime::setmask() { return FixConst::END_OF_STEP; }
@@ -249,32 +189,26 @@ int FixResidenceTime::setmask() { return FixConst::END_OF_STEP; }
 void FixResidenceTime::init()
 {
   const std::string who = std::string("fix ") + id + " residence/time";
-  if (!atom->tag_enable) error->all(FLERR, (who + " needs atom IDs (atom_modify id yes)").c_str());
+  if (!atom->tag_enable) fail(lmp, who, "needs atom IDs (atom_modify id yes)");
   const double lo = domain->boxlo[0], hi = domain->boxhi[0];
   const bool x_periodic = domain->xperiodic;
   if (settings_.periodic && !x_periodic)
-    error->all(FLERR, (who + ": 'periodic' needs a box periodic in x (boundary p ...)").c_str());
+    fail(lmp, who, "'periodic' needs a box periodic in x (boundary p ...)");
   if (!settings_.periodic && x_periodic)
-    error->all(FLERR, (who + ": the box is periodic in x; give 'periodic X' (the reference plane of a pass)").c_str());
-  // boundary[0][0]: 0 periodic, 1 fixed, 2/3 shrink-wrapped (the box follows the particles)
-  const bool fixed_box = domain->boundary[0][0] <= 1 && domain->boundary[0][1] <= 1;
-  if (fixed_box) {
+    fail(lmp, who, "the box is periodic in x; give 'periodic X' (the reference plane of a pass)");
+  if (tsg::measure::fixed_box_x(domain)) {
     try {
       tsg::zones::check_inside(zones_, lo, hi, "zones file '" + zones_path_ + "'");
     } catch (const std::invalid_argument &e) {
-      error->all(FLERR, (who + ": " + e.what()).c_str());
+      fail(lmp, who, e.what());
     }
-    auto inside_box = [&](const char *name, double x, bool upper_open) {
-      if (x < lo || x > hi || (upper_open && x >= hi))
-        error->all(FLERR, (who + ": " + name + " plane x = " + number(x) + " lies outside the simulation box along x [" +
-                           number(lo) + ", " + number(hi) + (upper_open ? ")" : "]")).c_str());
-    };
-    if (settings_.has_inlet) inside_box("inlet", plane_inlet_, false);
-    if (settings_.has_outlet) inside_box("outlet", plane_outlet_, false);
-    if (settings_.periodic) inside_box("periodic reference", plane_reference_, true);
+    using tsg::measure::check_plane_in_box;
+    if (settings_.has_inlet) check_plane_in_box(lmp, who, "inlet plane", plane_inlet_, false);
+    if (settings_.has_outlet) check_plane_in_box(lmp, who, "outlet plane", plane_outlet_, false);
+    if (settings_.periodic) check_plane_in_box(lmp, who, "periodic reference plane", plane_reference_, true);
     if (has_analysis_) {
-      inside_box("analysis XLO", analysis_lo_, false);
-      inside_box("analysis XHI", analysis_hi_, false);
+      check_plane_in_box(lmp, who, "analysis XLO plane", analysis_lo_, false);
+      check_plane_in_box(lmp, who, "analysis XHI plane", analysis_hi_, false);
     }
   }
   std::vector<tsg::axial::Plane> planes;
@@ -285,11 +219,11 @@ void FixResidenceTime::init()
   try {
     partition = tsg::axial::build_partition(zones_, settings_.periodic, lo, hi, analysis_lo_, analysis_hi_, planes);
   } catch (const std::invalid_argument &e) {
-    error->all(FLERR, (who + ": " + e.what()).c_str());
+    fail(lmp, who, e.what());
   }
   if (!partition_edges_.empty() && partition_edges_ != partition.edge)
-    error->all(FLERR, (who + ": the box along x changed since the fix was defined; the tracked zone cells would "
-                       "no longer match (unfix and define the fix again)").c_str());
+    fail(lmp, who, "the box along x changed since the fix was defined; the tracked zone cells would "
+                   "no longer match (unfix and define the fix again)");
   partition_edges_ = partition.edge;
   std::vector<tsg::zones::ZoneType> types;
   for (const auto &z : zones_) types.push_back(z.type);
@@ -299,23 +233,12 @@ void FixResidenceTime::init()
   near_usable_ = neighbor->dist_check && neighbor->every == 1 && neighbor->delay == 0 && !neighbor->build_once &&
                  !atom->radvary_flag;
   reach_ = neighbor->skin;  // twice the largest move between builds
+  if (!records_opened_) open_records_file();
 }
 
-// Unwrapped axial coordinate; on a periodic axis kept within half an image-flag span of `near`
-// (image flags wrap after IMGMAX periods), when `near` is finite.
 double FixResidenceTime::unwrapped_x(int i, double near) const
 {
-  double u = atom->x[i][0];
-  if (!settings_.periodic) return u;
-  const double length = domain->xprd;
-  const int ix = (atom->image[i] & IMGMASK) - IMGMAX;
-  u += ix * length;
-  const double span = 2.0 * IMGMAX * length;
-  if (std::isfinite(near)) {
-    while (u - near > 0.5 * span) u -= span;
-    while (near - u > 0.5 * span) u += span;
-  }
-  return u;
+  return tsg::measure::unwrapped_x(atom, domain, i, near);
 }
 
 void FixResidenceTime::remember(int i)
@@ -359,13 +282,13 @@ void FixResidenceTime::track(double t0, double t1, bool at_setup)
       if (!(mask[i] & groupbit)) continue;
       track_one(i, t0, t1, at_setup, starts);
       if (!near_usable_) continue;
-      const double u = x[3 * i] + ((image[i] & IMGMASK) - IMGMAX) * length;
+      const double u = tsg::measure::unwrapped_x_fast(x, image, i, length);
       const double lo = bounds_[i][0], hi = bounds_[i][1];
       if (u - lo < reach_ || hi - u <= reach_) near_.push_back({i, lo, hi});
     }
   } else {
     for (Near &n : near_) {
-      const double u = x[3 * n.i] + ((image[n.i] & IMGMASK) - IMGMAX) * length;
+      const double u = tsg::measure::unwrapped_x_fast(x, image, n.i, length);
       if (u >= n.lo && u < n.hi) continue;
       track_one(n.i, t0, t1, at_setup, starts);
       n.lo = bounds_[n.i][0];
@@ -377,8 +300,7 @@ void FixResidenceTime::track(double t0, double t1, bool at_setup)
 
 void FixResidenceTime::track_one(int i, double t0, double t1, bool at_setup, long &starts)
 {
-  double u = atom->x[i][0];
-  if (settings_.periodic) u += ((atom->image[i] & IMGMASK) - IMGMAX) * domain->xprd;
+  double u = tsg::measure::unwrapped_x_fast(atom->x[0], atom->image, i, settings_.periodic ? domain->xprd : 0.0);
   const double *b = bounds_[i];
   if (u >= b[0] && u < b[1]) return;  // the common case: still in the same cell, nothing changes
   double *s = state_[i];
@@ -491,15 +413,11 @@ void FixResidenceTime::reconcile(double t)
   packs_ = arrivals_ = 0;
 }
 
-double FixResidenceTime::now() const { return update->get_cur_time() + clock_offset_; }
+double FixResidenceTime::now() const { return clock_.now(update); }
 
 void FixResidenceTime::setup(int)
 {
-  if (clock_from_restart_) {  // continue the clock of the run that wrote the restart file
-    clock_offset_ = restart_time_ + static_cast<double>(update->ntimestep - static_cast<bigint>(restart_step_)) * update->dt -
-                    update->get_cur_time();
-    clock_from_restart_ = false;
-  }
+  clock_.resume(update);
   const double t = now();
   cache_valid_ = false;
   check_ids();
@@ -593,8 +511,8 @@ void FixResidenceTime::sync_counters()
 int FixResidenceTime::modify_param(int narg, char **arg)
 {
   if (strcmp(arg[0], "inside") == 0) {
-    if (narg < 2) error->all(FLERR, (std::string("fix_modify ") + id + " inside needs yes or no").c_str());
-    write_inside_ = yes_no("inside", arg[1]);
+    if (narg < 2) fail(lmp, std::string("fix_modify ") + id, "inside needs yes or no");
+    write_inside_ = tsg::measure::parse_yes_no(lmp, std::string("fix_modify ") + id, "inside", arg[1]);
     return 2;
   }
   return 0;
@@ -685,9 +603,9 @@ void FixResidenceTime::unpack_restart(int nlocal, int nth)
   for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
   const int size = static_cast<int>(extra[nlocal][m]) - 1;
   if (size != nvalues_)
-    error->one(FLERR, (std::string("fix ") + id + " residence/time: the restart file holds " + std::to_string(size) +
-                       " values per particle, this fix needs " + std::to_string(nvalues_) +
-                       " (a zones file with a different number of zones?)").c_str());
+    tsg::measure::fail_one(lmp, std::string("fix ") + id + " residence/time",
+                           "the restart file holds " + std::to_string(size) + " values per particle, this fix needs " +
+                               std::to_string(nvalues_) + " (a zones file with a different number of zones?)");
   std::copy(&extra[nlocal][m + 1], &extra[nlocal][m + 1] + nvalues_, state_[nlocal]);
   sync_hot(nlocal);
 }
@@ -696,39 +614,50 @@ int FixResidenceTime::size_restart(int) { return nvalues_ + 1; }
 
 int FixResidenceTime::maxsize_restart() { return nvalues_ + 1; }
 
-// global state: the counters (synced at every restart step, see end_of_step), whether the particles
-// present at the start have been seen, the number of zones, and the clock
+// global state: a format mark, the counters (synced at every restart step, see end_of_step), whether
+// the particles present at the start have been seen, the clock, and the identity of the zones
+// (zones.h), so that a restart with other zones is refused instead of mixing two sets of cells.
 namespace {
-enum RestartEntry { kFirstSetupDone, kZoneCount, kClockTime, kClockStep, kRestartExtra };
+constexpr double kRestartMark = -20261201.0;  // not a counter value: marks this layout
+constexpr int kRestartCounters = 7;            // FixResidenceTime::kCounters (checked below)
+enum RestartEntry { kMark, kCountersStart, kFirstSetupDone = kCountersStart + kRestartCounters,
+                    kClockTime, kClockStep, kZonesIdentity };
 }
 
 void FixResidenceTime::write_restart(FILE *fp)
 {
-  double list[kCounters + kRestartExtra];
-  for (int c = 0; c < kCounters; ++c) list[c] = total_[c];
-  list[kCounters + kFirstSetupDone] = first_setup_done_ ? 1.0 : 0.0;
-  list[kCounters + kZoneCount] = static_cast<double>(zones_.size());
-  list[kCounters + kClockTime] = now();
-  list[kCounters + kClockStep] = static_cast<double>(update->ntimestep);
+  static_assert(kCounters == kRestartCounters, "restart layout: counter count");
+  std::vector<double> list(kZonesIdentity);
+  list[kMark] = kRestartMark;
+  for (int c = 0; c < kCounters; ++c) list[kCountersStart + c] = total_[c];
+  list[kFirstSetupDone] = first_setup_done_ ? 1.0 : 0.0;
+  clock_.save(update, &list[kClockTime], &list[kClockStep]);
+  const std::vector<double> identity = tsg::zones::identity(zones_);
+  list.insert(list.end(), identity.begin(), identity.end());
   if (comm->me == 0) {
-    int size = static_cast<int>(sizeof list);
+    int size = static_cast<int>(list.size() * sizeof(double));
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), kCounters + kRestartExtra, fp);
+    fwrite(list.data(), sizeof(double), list.size(), fp);
   }
 }
 
 void FixResidenceTime::restart(char *buf)
 {
+  const std::string who = std::string("fix ") + id + " residence/time";
   const double *list = reinterpret_cast<const double *>(buf);
-  if (static_cast<size_t>(list[kCounters + kZoneCount]) != zones_.size())
-    error->all(FLERR, (std::string("fix ") + id + " residence/time: the restart file was written with " +
-                       number(list[kCounters + kZoneCount]) + " zones, the zones file now has " +
-                       std::to_string(zones_.size())).c_str());
-  for (int c = 0; c < kCounters; ++c) total_[c] = list[c];
-  first_setup_done_ = list[kCounters + kFirstSetupDone] != 0;
-  restart_time_ = list[kCounters + kClockTime];
-  restart_step_ = list[kCounters + kClockStep];
-  clock_from_restart_ = true;
+  if (list[kMark] != kRestartMark)
+    fail(lmp, who, "the restart file was written by an earlier version of this fix, which did not keep the "
+                   "identity of its zones; continue from a restart file written by this version");
+  const std::string difference = tsg::zones::identity_difference(list + kZonesIdentity, zones_);
+  if (!difference.empty())
+    fail(lmp, who, "the zones file '" + zones_path_ + "' does not describe the zones the restart file was "
+                   "written with: " + difference + "; a residence measurement cannot mix two sets of zone cells: "
+                   "continue with the zones file of the earlier run, or start a new measurement (a new fix ID "
+                   "and records file)");
+  for (int c = 0; c < kCounters; ++c) total_[c] = list[kCountersStart + c];
+  first_setup_done_ = list[kFirstSetupDone] != 0;
+  clock_.load(list[kClockTime], list[kClockStep]);
+  continuing_ = true;
 }
 
 double FixResidenceTime::memory_usage()

@@ -10,7 +10,8 @@
 //     inside yes|no      at the end of every run write a record with reason "inside" for every
 //                        particle still inside (snapshot; default no; also fix_modify ID inside ...)
 //     flush N            write buffered records every N steps (default: the thermo interval)
-//     append yes|no      append to RECORDS_FILE (after a restart) instead of overwriting it
+//     append yes|no      append to RECORDS_FILE, or start it anew (default: append when the fix continues
+//                        from a restart file; 'no' then refuses to overwrite a file that holds data)
 //
 // Records file: see docs/measurement.md. Global vector for thermo (f_ID[i]):
 //   1 records (outlet + pass + deleted + lost)   2 complete records (outlet + pass)
@@ -30,6 +31,7 @@ FixStyle(residence/time,FixResidenceTime)
 #include <vector>
 
 #include "fix.h"
+#include "measure_common.h"
 #include "residence.h"
 #include "zones.h"
 
@@ -84,7 +86,6 @@ private:
   void flush();
   void sync_counters();
   void open_records_file();
-  bool yes_no(const char *keyword, const char *value);
 
   std::string zones_path_;
   std::vector<tsg::zones::Zone> zones_;
@@ -96,7 +97,9 @@ private:
   bool has_analysis_;
   bool existing_given_;
   bool write_inside_;
-  bool append_;
+  tsg::measure::Append append_;
+  bool continuing_;       // restored from a restart file: the records file continues
+  bool records_opened_ = false;
   int flush_every_;
   bool flush_given_;
   bool first_setup_done_;
@@ -128,19 +131,10 @@ private:
   bool cache_valid_;
   double inside_now_;
 
-  // LIGGGHTS 3.8 does not keep the simulation time in restart files (it starts again from 0 after
-  // read_restart); the fix keeps its own clock across a restart: now() = get_cur_time() + offset
-  double clock_offset_;
-  bool clock_from_restart_;
-  double restart_time_;
-  double restart_step_;
+  tsg::measure::RestartClock clock_;
 };
 
 }  // namespace LAMMPS_NS
-
-// Reads a zones file on rank 0 and parses it on every rank (physics/zones.h); a missing or bad file
-// stops the run with the parser's message (file, line, reason), prefixed by `who`.
-std::vector<tsg::zones::Zone> tsg_read_zones(LAMMPS_NS::LAMMPS *lmp, const char *path, const std::string &who);
 
 #endif
 #endif

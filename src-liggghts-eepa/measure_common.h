@@ -1,0 +1,244 @@
+// What the measurement styles (fix residence/time, fix massflow/planes, compute element/stats) share:
+// the error idiom, number parsing and printing, the unwrapped axial position, box checks, the clock
+// that survives a restart, and the registration of the files they read and write (run_files.h).
+#ifndef TSG_MEASURE_COMMON_H
+#define TSG_MEASURE_COMMON_H
+
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "lammps.h"
+#include "update.h"
+
+#include "run_files.h"
+
+namespace tsg::measure {
+
+// Every error of a measurement style: "<who>: <message>" on all ranks (who = "fix ID style").
+inline void fail(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &message) {
+  lmp->error->all(FLERR, (who + ": " + message).c_str());
+}
+
+// The same, raised by one rank only (a file that only rank 0 opens, a particle that one rank owns).
+inline void fail_one(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &message) {
+  lmp->error->one(FLERR, (who + ": " + message).c_str());
+}
+
+// Numbers in messages and file headers: 10 significant digits, no trailing zeros.
+inline std::string number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", value);
+  return buffer;
+}
+
+// Whole-token finite real: "1e-3" yes; "", "5cm", "nan", "inf", "1e999" no.
+inline bool parse_real(const char *text, double &value) {
+  if (!text || !*text) return false;
+  char *end = nullptr;
+  errno = 0;
+  value = std::strtod(text, &end);
+  return *end == '\0' && errno != ERANGE && std::isfinite(value);
+}
+
+// Whole-token integer in [lo, hi].
+inline bool parse_integer(const char *text, long lo, long hi, long &value) {
+  if (!text || !*text) return false;
+  char *end = nullptr;
+  errno = 0;
+  value = std::strtol(text, &end, 10);
+  return *end == '\0' && errno != ERANGE && value >= lo && value <= hi;
+}
+
+// "yes" or "no", else an error naming the keyword and the value.
+inline bool parse_yes_no(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &keyword,
+                         const char *value) {
+  if (std::string(value) == "yes") return true;
+  if (std::string(value) == "no") return false;
+  fail(lmp, who, keyword + " = '" + value + "' must be 'yes' or 'no'");
+  return false;
+}
+
+// Axial coordinate of particle i with its periodic images unwrapped (x itself on an open axis). Image
+// flags wrap after IMGMAX periods: when `near` is finite, the result is kept within half that span
+// of it (callers pass a cell edge the particle was near a few steps ago).
+inline double unwrapped_x(const LAMMPS_NS::Atom *atom, const LAMMPS_NS::Domain *domain, int i, double near = NAN) {
+  double u = atom->x[i][0];
+  if (!domain->xperiodic) return u;
+  const double length = domain->xprd;
+  u += ((atom->image[i] & IMGMASK) - IMGMAX) * length;
+  const double span = 2.0 * IMGMAX * length;
+  if (std::isfinite(near)) {
+    while (u - near > 0.5 * span) u -= span;
+    while (near - u > 0.5 * span) u += span;
+  }
+  return u;
+}
+
+// The unwrapped position without the wrap-around guard, for the per-step loops: x0 = &x[0][0],
+// length = the period along x (0 on an open axis).
+inline double unwrapped_x_fast(const double *x0, const int *image, int i, double length) {
+  return x0[3 * i] + (length > 0 ? ((image[i] & IMGMASK) - IMGMAX) * length : 0.0);
+}
+
+// Whether the box along x is fixed (periodic or fixed walls) rather than shrink-wrapped (the box
+// follows the particles, so positions in the input cannot be checked against it).
+inline bool fixed_box_x(const LAMMPS_NS::Domain *domain) {
+  return domain->boundary[0][0] <= 1 && domain->boundary[0][1] <= 1;
+}
+
+// An error unless x lies in the box along x: [lo, hi], or [lo, hi) on a periodic axis where hi is lo.
+inline void check_plane_in_box(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &what, double x,
+                               bool upper_open) {
+  const double lo = lmp->domain->boxlo[0], hi = lmp->domain->boxhi[0];
+  if (x < lo || x > hi || (upper_open && x >= hi))
+    fail(lmp, who, what + " x = " + number(x) + " lies outside the simulation box along x [" + number(lo) + ", " +
+                       number(hi) + (upper_open ? ")" : "]"));
+}
+
+// LIGGGHTS 3.8 does not keep the simulation time in restart files (it starts again from 0 after
+// read_restart): a fix that reports times keeps its own clock across a restart,
+// now() = get_cur_time() + offset, the offset found at the first set-up after the restart.
+class RestartClock {
+public:
+  double now(const LAMMPS_NS::Update *update) const { return update->get_cur_time() + offset_; }
+  // what write_restart stores: the time and the step
+  void save(const LAMMPS_NS::Update *update, double *time, double *step) const {
+    *time = now(update);
+    *step = static_cast<double>(update->ntimestep);
+  }
+  void load(double time, double step) {
+    restart_time_ = time;
+    restart_step_ = step;
+    pending_ = true;
+  }
+  // call at set-up: continues the clock of the run that wrote the restart file
+  void resume(const LAMMPS_NS::Update *update) {
+    if (!pending_) return;
+    offset_ = restart_time_ +
+              static_cast<double>(update->ntimestep - static_cast<LAMMPS_NS::bigint>(restart_step_)) * update->dt -
+              update->get_cur_time();
+    pending_ = false;
+  }
+
+private:
+  double offset_ = 0;
+  bool pending_ = false;
+  double restart_time_ = 0, restart_step_ = 0;
+};
+
+// Registers a file the style writes / reads (run_files.h); an error when it is already in use.
+inline void claim_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role,
+                         const std::string &path) {
+  const std::string problem = tsg::run_files::claim_output(path, who, role);
+  if (!problem.empty()) fail(lmp, who, problem);
+}
+
+inline void note_input(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role,
+                       const std::string &path) {
+  const std::string problem = tsg::run_files::note_input(path, who, role);
+  if (!problem.empty()) fail(lmp, who, problem);
+}
+
+// How an output file is opened when the first run starts.
+enum class Append {
+  automatic,  // not given: append when the fix continues from a restart file, else start a new file
+  yes,        // always append (the header of a non-empty file must match)
+  no          // start a new file; refused when continuing from a restart and the file holds data
+};
+
+inline Append parse_append(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *value) {
+  return parse_yes_no(lmp, who, "append", value) ? Append::yes : Append::no;
+}
+
+namespace detail {
+
+inline std::vector<std::string> header_lines(const std::string &text, const std::vector<std::string> &free_prefixes) {
+  std::vector<std::string> lines;
+  std::string::size_type start = 0;
+  while (start < text.size() && text[start] == '#') {
+    std::string::size_type end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(start, end - start);
+    bool free = false;
+    for (const std::string &prefix : free_prefixes) free = free || line.compare(0, prefix.size(), prefix) == 0;
+    if (!free) lines.push_back(line);
+    start = end + 1;
+  }
+  return lines;
+}
+
+// What rank 0 found wrong ("" if nothing), for every rank.
+inline std::string broadcast(LAMMPS_NS::LAMMPS *lmp, std::string text) {
+  int size = static_cast<int>(text.size());
+  MPI_Bcast(&size, 1, MPI_INT, 0, lmp->world);
+  text.resize(static_cast<std::string::size_type>(size));
+  if (size > 0) MPI_Bcast(&text[0], size, MPI_CHAR, 0, lmp->world);
+  return text;
+}
+
+}  // namespace detail
+
+// Opens an output file on rank 0 (nullptr on the other ranks) and writes `header` into a new or
+// empty file. Appending to a file that holds data requires its header to equal `header`, except lines
+// starting with one of `free_prefixes` (names that may change without changing what the columns
+// mean): records of two set-ups never mix in one file. Errors on every rank.
+inline FILE *open_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role,
+                         const std::string &path, const std::string &header, Append mode, bool continuing,
+                         const std::vector<std::string> &free_prefixes) {
+  const bool append = mode == Append::yes || (mode == Append::automatic && continuing);
+  std::string problem;
+  FILE *fp = nullptr;
+  if (lmp->comm->me == 0) {
+    std::string old;
+    if (FILE *in = std::fopen(path.c_str(), "rb")) {
+      char buffer[4096];
+      std::size_t n;
+      while ((n = std::fread(buffer, 1, sizeof buffer, in)) > 0) old.append(buffer, n);
+      std::fclose(in);
+    }
+    if (!old.empty() && mode == Append::no && continuing) {
+      problem = "'append no' would overwrite the " + role + " '" + path + "' (" + std::to_string(old.size()) +
+                " bytes) that the run which wrote the restart file may have filled; continue it with 'append yes' "
+                "(the default after read_restart) or give another file name";
+    } else if (!old.empty() && append) {
+      const auto had = detail::header_lines(old, free_prefixes), want = detail::header_lines(header, free_prefixes);
+      if (had != want) {
+        std::size_t k = 0;
+        while (k < had.size() && k < want.size() && had[k] == want[k]) ++k;
+        problem = "cannot append to the " + role + " '" + path + "': it was written for another set-up (its header has '" +
+                  (k < had.size() ? had[k] : std::string("(no line)")) + "' where this fix writes '" +
+                  (k < want.size() ? want[k] : std::string("(no line)")) +
+                  "'); append only to a file of the same set-up, or give another file name";
+      }
+    }
+    if (problem.empty()) {
+      fp = std::fopen(path.c_str(), append ? "a" : "w");
+      if (!fp) {
+        problem = "cannot open the " + role + " '" + path + "' for writing: " + std::strerror(errno);
+      } else if (!append || old.empty()) {
+        std::fputs(header.c_str(), fp);
+        std::fflush(fp);
+      }
+    }
+  }
+  problem = detail::broadcast(lmp, problem);
+  if (!problem.empty()) {
+    if (fp) std::fclose(fp);
+    fail(lmp, who, problem);
+  }
+  return fp;
+}
+
+}  // namespace tsg::measure
+
+#endif
