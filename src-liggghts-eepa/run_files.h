@@ -10,6 +10,7 @@
 #define TSG_RUN_FILES_H
 
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -53,6 +54,29 @@ inline std::string &log_name() {
 // a rank that does not write the log).
 inline void set_log(const std::string &path) { log_name() = path; }
 inline const std::string &log_path() { return log_name(); }
+
+// Opens the log on rank 0: truncated unless `append`, then written in append mode and line-buffered,
+// so that every line written before an abort is in the file, and a line another rank appends is never
+// overwritten. nullptr when it cannot be opened.
+inline FILE *open_log(const char *path, bool append) {
+  if (!append) {
+    FILE *fp = std::fopen(path, "w");
+    if (!fp) return nullptr;
+    std::fclose(fp);
+  }
+  FILE *fp = std::fopen(path, "a");
+  if (fp) std::setvbuf(fp, nullptr, _IOLBF, BUFSIZ);
+  return fp;
+}
+
+// Appends an error line to the log (for a rank that does not write the log: MPI_Abort follows).
+inline void append_to_log(const std::string &line) {
+  if (log_name().empty()) return;
+  if (FILE *fp = std::fopen(log_name().c_str(), "a")) {
+    std::fputs(line.c_str(), fp);
+    std::fclose(fp);
+  }
+}
 
 namespace detail {
 inline std::string describe(const Entry &e) {
