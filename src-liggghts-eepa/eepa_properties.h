@@ -92,8 +92,8 @@ private:
         std::string problem;
         const double multiplier = tangential_multiplier_[i][j];
         if (!(multiplier > 0 && std::isfinite(multiplier))) {
-          problem = std::string(kTangentialMultiplier) + " = " + std::to_string(multiplier) +
-                    " is outside the allowed range (0, inf)";
+          problem = std::string(kTangentialMultiplier) + " = " + tsg::eepa::detail::format_number(multiplier) +
+                    " is outside the allowed range (0, inf)";  // formatted as the law formats the others
         } else {
           try {
             // k1 and R* are placeholders: they are derived, not user input
