@@ -4,7 +4,7 @@ residence time) may differ in the last bits with the summation order, and are co
 import numpy as np
 import pytest
 
-from measure_cases import (BASE, RESTART_BASE, Mover, lanes, particles_include, record_lines, variables,
+from measure_cases import (BASE, RESTART_BASE, ZONES, Mover, lanes, particles_include, record_lines, variables,
                            zones_text)
 from tsg_harness import run_lmp
 
@@ -152,3 +152,34 @@ def test_checking_only_particles_near_edges_changes_nothing(tmp_path):
     assert len(outputs["yes"][0]) >= 15
     records_close(outputs["yes"][0], outputs["no"][0], "records, check yes / no")
     assert_close_tables(outputs["yes"][1], outputs["no"][1], "mass flow, check yes / no")
+
+
+def test_restart_without_append_keyword_continues_both_files(tmp_path):
+    # The second part gives no 'append' keyword and a zones file with the same zones written
+    # differently (comments, number format): the fixes know they continue from a restart file, so
+    # they append to records.txt and massflow.txt, whose first part stays byte for byte, and the
+    # whole equals the records of the uninterrupted run.
+    movers = busy_movers(True)
+    files = {"zones.txt": zones_text(), "particles.include": particles_include(movers)}
+    straight = periodic_text("first", 12000).replace("write_restart state.restart\n", "")
+    run_lmp(straight, tmp_path / "whole", variables=variables(True), files=files)
+    split = tmp_path / "split"
+    run_lmp(periodic_text("first", 6000), split, variables=variables(True), files=files)
+    first_records = (split / "records.txt").read_bytes()
+    first_flow = (split / "massflow.txt").read_bytes()
+    assert len(record_lines(split / "records.txt")) >= 2
+    reformatted = "# the same zones, written by hand\n" + "\n".join(
+        f"{i}  {kind}  {a * 1000:g}e-3 {b * 1000:g}e-3 {v:.3e}" for i, kind, a, b, v in ZONES) + "\n"
+    (split / "zones.txt").write_text(reformatted)
+    second = periodic_text("second", 6000).replace(" append yes", "")
+    assert "append" not in second
+    run_lmp(second, split, variables=variables(True), input_name="in.second")
+    records, flow = (split / "records.txt").read_bytes(), (split / "massflow.txt").read_bytes()
+    assert records.startswith(first_records) and len(records) > len(first_records)
+    assert flow.startswith(first_flow) and len(flow) > len(first_flow)
+    header = [l for l in records.decode().splitlines() if l.startswith("#")]
+    assert header.count("# tsg-dem residence records v1") == 1
+    records_close(record_lines(split / "records.txt"), record_lines(tmp_path / "whole" / "records.txt"),
+                  "split without 'append' vs uninterrupted")
+    assert_close_tables(record_lines(split / "massflow.txt"), record_lines(tmp_path / "whole" / "massflow.txt"),
+                        "mass flow, split without 'append' and whole run")
