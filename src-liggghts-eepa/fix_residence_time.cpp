@@ -3,16 +3,13 @@
 // Per particle the state of physics/residence.h lives in a per-atom array that migrates with the
 // particle (pack/unpack_exchange) and goes into restart files (pack/unpack_restart).
 //
-// Nothing may vanish without a record. Every rank keeps a "shadow" copy of the state of each inside
-// particle it owns, refreshed whenever that state changes (a zone-edge crossing: rare), keyed by
-// particle id. On every reneighbouring step (the only steps on which particles are deleted, lost or
-// migrated) and at every run set-up the shadow is reconciled with the particles actually owned:
-//   - a shadow entry whose particle is no longer owned and did not leave through pack_exchange was
-//     deleted (delete_atoms, fix massflow/mesh ... delete_atoms yes, ...): record "deleted";
-//   - a particle packed for another rank is marked "in transit"; if, over all ranks, fewer particles
-//     arrived than were packed, the ids in transit are matched against the particles owned anywhere,
-//     and those owned nowhere were lost (left a non-periodic box with thermo_modify lost ignore):
-//     record "lost", written by the lowest rank holding it in transit.
+// Nothing may vanish without a record: the ledger (physics/ledger.h) keeps a copy of the state of
+// each inside particle this rank owns, refreshed whenever that state changes (a zone-edge crossing:
+// rare). On every reneighbouring step (the only steps on which particles are deleted, lost or
+// migrated) and at every run set-up it is reconciled with the particles actually owned: those gone
+// without a pack were deleted (delete_atoms, fix massflow/mesh ... delete_atoms yes, ...): record
+// "deleted"; those packed but arrived on no rank were lost (left a non-periodic box with
+// thermo_modify lost ignore): record "lost", written by the lowest rank holding it in transit.
 // Records are buffered per rank and gathered to rank 0 every `flush` steps, at restart steps and
 // at the end of every run; rank 0 sorts them by (exit time, id) and appends them to the file.
 #include "fix_residence_time.h"
@@ -26,6 +23,7 @@
 #include <string>
 #include <tuple>
 #include <unordered_set>
+#include <vector>
 
 #include "atom.h"
 #include "comm.h"
@@ -57,7 +55,7 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
     analysis_lo_(-INFINITY), analysis_hi_(INFINITY), has_analysis_(false), existing_given_(false),
     write_inside_(false), append_(tsg::measure::Append::automatic), continuing_(false), flush_every_(1000), flush_given_(false), first_setup_done_(false),
     nvalues_(0), state_(nullptr), bounds_(nullptr), inside_(nullptr), near_usable_(false), reach_(0), fp_(nullptr),
-    transit_entries_(0), packs_(0), arrivals_(0), cache_valid_(false), inside_now_(0)
+    cache_valid_(false), inside_now_(0)
 {
   const std::string who = std::string("fix ") + id + " residence/time";
   const char *zones_file = nullptr;
@@ -243,15 +241,7 @@ double FixResidenceTime::unwrapped_x(int i, double near) const
 
 void FixResidenceTime::remember(int i)
 {
-  const long long key = static_cast<long long>(state_[i][Slot::id]);
-  auto it = shadow_.find(key);
-  if (it == shadow_.end()) {
-    shadow_.emplace(key, Shadow{std::vector<double>(state_[i], state_[i] + nvalues_), false});
-  } else {
-    if (it->second.transit) --transit_entries_;
-    it->second.state.assign(state_[i], state_[i] + nvalues_);
-    it->second.transit = false;
-  }
+  ledger_.remember(static_cast<long long>(state_[i][Slot::id]), state_[i], nvalues_);
 }
 
 void FixResidenceTime::add_record(const res::Record &record)
@@ -321,7 +311,7 @@ void FixResidenceTime::track_one(int i, double t0, double t1, bool at_setup, lon
   auto sink = [this](const res::Record &record) { add_record(record); };
   if (tracker_.advance(s, u0, u, t0, t1, sink, starts)) {
     if (s[Slot::status] == res::kInside) remember(i);
-    else if (was_inside) shadow_.erase(static_cast<long long>(s[Slot::id]));
+    else if (was_inside) ledger_.forget(static_cast<long long>(s[Slot::id]));
     sync_hot(i);
   }
 }
@@ -351,37 +341,27 @@ void FixResidenceTime::reconcile(double t)
   // 1. particles gone from this rank without leaving through pack_exchange: deleted
   long owned_inside = 0;
   for (int i = 0; i < nlocal; ++i) owned_inside += inside_[i];  // only group members are ever inside
-  const long resident = static_cast<long>(shadow_.size()) - transit_entries_;
-  if (owned_inside != resident) {
+  if (owned_inside != ledger_.resident()) {
     std::unordered_set<long long> owned;
     owned.reserve(static_cast<size_t>(owned_inside) * 2 + 1);
     for (int i = 0; i < nlocal; ++i)
       if ((mask[i] & groupbit) && state_[i][Slot::status] == res::kInside)
         owned.insert(static_cast<long long>(state_[i][Slot::id]));
-    std::vector<long long> deleted;
-    for (const auto &entry : shadow_)
-      if (!entry.second.transit && !owned.count(entry.first)) deleted.push_back(entry.first);
-    std::sort(deleted.begin(), deleted.end());
-    for (long long key : deleted) {
-      add_record(tracker_.close(shadow_[key].state.data(), t, res::Reason::deleted));
-      shadow_.erase(key);
-    }
-    // owned inside particles without a shadow entry: after read_restart (the shadow is not part of
-    // the restart file) — take it from the particle
+    for (const auto &gone : ledger_.take_deleted(owned))
+      add_record(tracker_.close(gone.second.data(), t, res::Reason::deleted));
+    // owned inside particles the ledger does not hold as resident: after read_restart (the ledger is
+    // not part of the restart file) — take them from the particles
     for (int i = 0; i < nlocal; ++i)
-      if ((mask[i] & groupbit) && state_[i][Slot::status] == res::kInside) {
-        auto it = shadow_.find(static_cast<long long>(state_[i][Slot::id]));
-        if (it == shadow_.end() || it->second.transit) remember(i);
-      }
+      if ((mask[i] & groupbit) && state_[i][Slot::status] == res::kInside &&
+          !ledger_.holds(static_cast<long long>(state_[i][Slot::id])))
+        remember(i);
   }
 
   // 2. packed for another rank but arrived nowhere: lost
-  long gap_local = packs_ - arrivals_, gap = 0;
+  long gap_local = ledger_.packs_minus_arrivals(), gap = 0;
   MPI_Allreduce(&gap_local, &gap, 1, MPI_LONG, MPI_SUM, world);
   if (gap != 0) {
-    std::vector<long long> mine;
-    for (const auto &entry : shadow_)
-      if (entry.second.transit) mine.push_back(entry.first);
+    std::vector<long long> mine = ledger_.transit_ids();
     int count = static_cast<int>(mine.size());
     std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
     MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
@@ -395,22 +375,13 @@ void FixResidenceTime::reconcile(double t)
     std::sort(all.begin(), all.end());
     all.erase(std::unique(all.begin(), all.end()), all.end());
     std::vector<int> claim(all.size()), result(all.size());
-    for (size_t k = 0; k < all.size(); ++k) {
-      auto it = shadow_.find(all[k]);
-      claim[k] = it == shadow_.end() ? comm->nprocs : (it->second.transit ? comm->me : -1);
-    }
+    for (size_t k = 0; k < all.size(); ++k) claim[k] = ledger_.claim(all[k], comm->me, comm->nprocs);
     if (!all.empty())
       MPI_Allreduce(claim.data(), result.data(), static_cast<int>(all.size()), MPI_INT, MPI_MIN, world);
     for (size_t k = 0; k < all.size(); ++k)
-      if (result[k] == comm->me) add_record(tracker_.close(shadow_[all[k]].state.data(), t, res::Reason::lost));
+      if (result[k] == comm->me) add_record(tracker_.close(ledger_.state(all[k])->data(), t, res::Reason::lost));
   }
-  if (transit_entries_ > 0)
-    for (auto it = shadow_.begin(); it != shadow_.end();) {
-      if (it->second.transit) it = shadow_.erase(it);
-      else ++it;
-    }
-  transit_entries_ = 0;
-  packs_ = arrivals_ = 0;
+  ledger_.end_exchange();
 }
 
 double FixResidenceTime::now() const { return clock_.now(update); }
@@ -421,7 +392,7 @@ void FixResidenceTime::setup(int)
   const double t = now();
   cache_valid_ = false;
   check_ids();
-  reconcile(t);                // deletions between runs, losses during set-up, shadow after a restart
+  reconcile(t);                // deletions between runs, losses during set-up, ledger after a restart
   track(t, t, true);           // first sight of existing particles; moves between runs are instantaneous
   first_setup_done_ = true;
 }
@@ -567,14 +538,7 @@ void FixResidenceTime::set_arrays(int i)
 int FixResidenceTime::pack_exchange(int i, double *buf)
 {
   std::copy(state_[i], state_[i] + nvalues_, buf);
-  if (state_[i][Slot::status] == res::kInside) {
-    ++packs_;
-    auto it = shadow_.find(static_cast<long long>(state_[i][Slot::id]));
-    if (it != shadow_.end() && !it->second.transit) {
-      it->second.transit = true;
-      ++transit_entries_;
-    }
-  }
+  if (state_[i][Slot::status] == res::kInside) ledger_.packed(static_cast<long long>(state_[i][Slot::id]));
   return nvalues_;
 }
 
@@ -583,7 +547,7 @@ int FixResidenceTime::unpack_exchange(int nlocal, double *buf)
   std::copy(buf, buf + nvalues_, state_[nlocal]);
   sync_hot(nlocal);
   if (state_[nlocal][Slot::status] == res::kInside) {
-    ++arrivals_;
+    ledger_.arrived();
     remember(nlocal);
   }
   return nvalues_;
@@ -663,6 +627,6 @@ void FixResidenceTime::restart(char *buf)
 double FixResidenceTime::memory_usage()
 {
   double bytes = static_cast<double>(atom->nmax) * (nvalues_ + 2) * sizeof(double);
-  bytes += static_cast<double>(shadow_.size()) * (nvalues_ * sizeof(double) + 64);
+  bytes += static_cast<double>(ledger_.size()) * (nvalues_ * sizeof(double) + 64);
   return bytes;
 }

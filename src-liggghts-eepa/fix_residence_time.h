@@ -27,10 +27,10 @@ FixStyle(residence/time,FixResidenceTime)
 
 #include <cstdio>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "fix.h"
+#include "ledger.h"
 #include "measure_common.h"
 #include "residence.h"
 #include "zones.h"
@@ -63,10 +63,6 @@ public:
   double memory_usage();
 
 private:
-  struct Shadow {
-    std::vector<double> state;
-    bool transit;
-  };
   enum Counter { kEntered, kOutlet, kPass, kDeleted, kLost, kRecordsInside, kSumResidence, kCounters };
 
   double unwrapped_x(int i, double near) const;
@@ -121,9 +117,7 @@ private:
   std::string records_path_;
   FILE *fp_;         // rank 0
 
-  std::unordered_map<long long, Shadow> shadow_;  // inside particles owned here, by id
-  long transit_entries_;
-  long packs_, arrivals_;
+  tsg::residence::Ledger ledger_;  // inside particles owned here, by id (physics/ledger.h)
 
   std::vector<tsg::residence::Record> pending_;
   double local_[kCounters];   // since the last sync, this rank
