@@ -1,6 +1,6 @@
 // `error "message"` — stop the run with a LIGGGHTS error carrying the message (exit status 1).
-// Input scripts use it to reject a bad variable value with a clear text, e.g.
-//   if "${cohesion} != none && ${cohesion} != high" then "error 'cohesion = ${cohesion}: allowed none | high'"
+// Input scripts use it to reject a bad variable value with a clear text, as cases/include/models.in:
+//   else "error cohesion = ${cohesion} is not allowed: use 0 (cohesionless, Hertz) or 1 (high cohesion, EEPA)"
 #ifdef COMMAND_CLASS
 CommandStyle(error,ErrorCommand)
 #else

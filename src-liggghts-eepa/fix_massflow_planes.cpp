@@ -28,7 +28,7 @@ using tsg::measure::number;
 
 FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg)
   : Fix(lmp, narg, arg), window_(0), append_(tsg::measure::Append::automatic), continuing_(false), file_opened_(false),
-    fp_(nullptr), bounds_(nullptr), side_(nullptr), nside_(0), near_usable_(false), reach_(0), window_time_(0)
+    fp_(nullptr), bounds_(nullptr), side_(nullptr), nside_(0), window_time_(0)
 {
   const std::string who = std::string("fix ") + id + " massflow/planes";
   bool have_planes = false;
@@ -131,9 +131,7 @@ void FixMassflowPlanes::init()
   if (tsg::measure::fixed_box_x(domain))
     for (size_t k = 0; k < planes_.size(); ++k)
       tsg::measure::check_plane_in_box(lmp, who, "plane " + std::to_string(k + 1) + " at", planes_[k], domain->xperiodic);
-  near_usable_ = neighbor->dist_check && neighbor->every == 1 && neighbor->delay == 0 && !neighbor->build_once &&
-                 !atom->radvary_flag;
-  reach_ = neighbor->skin;
+  near_.configure(neighbor, atom);
   if (!file_opened_) open_file();
 }
 
@@ -184,43 +182,16 @@ void FixMassflowPlanes::setup(int)
   clock_.resume(update);
   // first sight of particles present now; positions changed between runs (set, displace_atoms) are
   // taken as they are, without counting
-  near_.clear();
-  for (int i = 0; i < atom->nlocal; ++i)
-    if (atom->mask[i] & groupbit) {
-      const double near = side_[i][0] != 0 ? bounds_[i][0] : NAN;
-      const double u = unwrapped_x(i, std::isfinite(near) ? near : NAN);
-      place(i, u);
-      if (near_usable_ && (u - bounds_[i][0] < reach_ || bounds_[i][1] - u <= reach_))
-        near_.push_back({i, bounds_[i][0], bounds_[i][1]});
-    }
+  near_.visit(true, atom, groupbit, period(), bounds_, [&](int i) {
+    const double near = side_[i][0] != 0 ? bounds_[i][0] : NAN;
+    place(i, unwrapped_x(i, std::isfinite(near) ? near : NAN));
+  });
 }
 
 void FixMassflowPlanes::end_of_step()
 {
   const double length = period();
-  const double *x = atom->x[0];  // x is one contiguous block: x[i][0] = x[0][3 i]
-  const tagint *image = atom->image;
-  if (neighbor->ago == 0 || !near_usable_) {
-    near_.clear();
-    const int nlocal = atom->nlocal;
-    const int *mask = atom->mask;
-    for (int i = 0; i < nlocal; ++i) {
-      if (!(mask[i] & groupbit)) continue;
-      count_one(i, length);
-      if (!near_usable_) continue;
-      const double u = tsg::measure::unwrapped_x_fast(x, image, i, length);
-      const double lo = bounds_[i][0], hi = bounds_[i][1];
-      if (u - lo < reach_ || hi - u <= reach_) near_.push_back({i, lo, hi});
-    }
-  } else {
-    for (Near &n : near_) {
-      const double u = tsg::measure::unwrapped_x_fast(x, image, n.i, length);
-      if (u >= n.lo && u < n.hi) continue;
-      count_one(n.i, length);
-      n.lo = bounds_[n.i][0];
-      n.hi = bounds_[n.i][1];
-    }
-  }
+  near_.visit(neighbor->ago == 0, atom, groupbit, length, bounds_, [&](int i) { count_one(i, length); });
   window_time_ += update->dt;
   const size_t nplanes = planes_.size();
   if (update->ntimestep % window_ != 0) {

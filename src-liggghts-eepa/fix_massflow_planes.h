@@ -73,15 +73,7 @@ private:
   // axis or [u >= X_k] on an open one; the net crossings of a step are the change of these numbers
   double **side_;
   int nside_;
-  // between neighbour-list builds only particles within one skin of a plane image (see
-  // fix residence/time)
-  struct Near {
-    int i;          // local index (valid until the next build)
-    double lo, hi;  // copy of its bounds, so that the loop reads only x (and image) per particle
-  };
-  std::vector<Near> near_;
-  bool near_usable_;
-  double reach_;
+  tsg::measure::NearList near_;  // particles near a plane image (measure_common.h)
   void count_one(int i, double length);
   std::vector<double> mass_;    // net mass through each plane in the open window, this rank, kg
   double window_time_;          // duration of the open window so far, s

@@ -54,7 +54,7 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
   : Fix(lmp, narg, arg), plane_inlet_(0), plane_outlet_(0), plane_reference_(0),
     analysis_lo_(-INFINITY), analysis_hi_(INFINITY), has_analysis_(false), existing_given_(false),
     write_inside_(false), append_(tsg::measure::Append::automatic), continuing_(false), flush_every_(1000), flush_given_(false), first_setup_done_(false),
-    nvalues_(0), state_(nullptr), bounds_(nullptr), inside_(nullptr), near_usable_(false), reach_(0), fp_(nullptr),
+    nvalues_(0), state_(nullptr), bounds_(nullptr), inside_(nullptr), fp_(nullptr),
     cache_valid_(false), inside_now_(0)
 {
   const std::string who = std::string("fix ") + id + " residence/time";
@@ -228,9 +228,7 @@ void FixResidenceTime::init()
   tracker_ = res::Tracker(partition, types, settings_);
   if (!flush_given_) flush_every_ = output->thermo_every > 0 ? output->thermo_every : 1000;
   comm->maxexchange_fix = std::max(comm->maxexchange_fix, nvalues_ + 1);
-  near_usable_ = neighbor->dist_check && neighbor->every == 1 && neighbor->delay == 0 && !neighbor->build_once &&
-                 !atom->radvary_flag;
-  reach_ = neighbor->skin;  // twice the largest move between builds
+  near_.configure(neighbor, atom);
   if (!records_opened_) open_records_file();
 }
 
@@ -261,30 +259,8 @@ void FixResidenceTime::add_record(const res::Record &record)
 void FixResidenceTime::track(double t0, double t1, bool at_setup)
 {
   long starts = 0;
-  const double *x = atom->x[0];  // x is one contiguous block: x[i][0] = x[0][3 i]
-  const tagint *image = atom->image;
-  const double length = settings_.periodic ? domain->xprd : 0.0;
-  if (at_setup || neighbor->ago == 0 || !near_usable_) {
-    near_.clear();
-    const int nlocal = atom->nlocal;
-    const int *mask = atom->mask;
-    for (int i = 0; i < nlocal; ++i) {
-      if (!(mask[i] & groupbit)) continue;
-      track_one(i, t0, t1, at_setup, starts);
-      if (!near_usable_) continue;
-      const double u = tsg::measure::unwrapped_x_fast(x, image, i, length);
-      const double lo = bounds_[i][0], hi = bounds_[i][1];
-      if (u - lo < reach_ || hi - u <= reach_) near_.push_back({i, lo, hi});
-    }
-  } else {
-    for (Near &n : near_) {
-      const double u = tsg::measure::unwrapped_x_fast(x, image, n.i, length);
-      if (u >= n.lo && u < n.hi) continue;
-      track_one(n.i, t0, t1, at_setup, starts);
-      n.lo = bounds_[n.i][0];
-      n.hi = bounds_[n.i][1];
-    }
-  }
+  near_.visit(at_setup || neighbor->ago == 0, atom, groupbit, settings_.periodic ? domain->xprd : 0.0, bounds_,
+              [&](int i) { track_one(i, t0, t1, at_setup, starts); });
   local_[kEntered] += starts;
 }
 

@@ -104,15 +104,7 @@ private:
   double **state_;   // per-atom state (residence.h Slot layout)
   double **bounds_;  // per atom: copy of the state's cell bounds lo, hi (the only data read every step)
   char *inside_;     // per atom: 1 when the state says inside (read on reneighbouring steps)
-  // Between neighbour-list builds no particle moves more than half the skin (neigh_modify delay 0
-  // every 1 check yes): only particles within one skin of a cell edge are looked at then.
-  struct Near {
-    int i;          // local index (valid until the next build)
-    double lo, hi;  // copy of its bounds, so that the loop reads only x (and image) per particle
-  };
-  std::vector<Near> near_;
-  bool near_usable_;
-  double reach_;
+  tsg::measure::NearList near_;  // particles near a cell edge (measure_common.h)
 
   std::string records_path_;
   FILE *fp_;         // rank 0

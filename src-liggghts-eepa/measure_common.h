@@ -1,6 +1,6 @@
 // What the measurement styles (fix residence/time, fix massflow/planes, compute element/stats) share:
-// the error idiom, number parsing and printing, the unwrapped axial position, box checks, the clock
-// that survives a restart, and the registration of the files they read and write (run_files.h).
+// the error idiom, number parsing and printing, the unwrapped axial position, box checks, the lists
+// of particles near a plane, output files, and the registration of the files they read and write (run_files.h).
 #ifndef TSG_MEASURE_COMMON_H
 #define TSG_MEASURE_COMMON_H
 
@@ -18,8 +18,10 @@
 #include "domain.h"
 #include "error.h"
 #include "lammps.h"
+#include "neighbor.h"
 #include "update.h"
 
+#include "restart_clock.h"
 #include "run_files.h"
 
 namespace tsg::measure {
@@ -96,6 +98,60 @@ inline bool fixed_box_x(const LAMMPS_NS::Domain *domain) {
   return domain->boundary[0][0] <= 1 && domain->boundary[0][1] <= 1;
 }
 
+// Between neighbour-list builds no particle moves more than half the skin (when every step checks
+// the displacements: neigh_modify delay 0 every 1 check yes, radii constant), so a particle more
+// than one skin inside its interval [lo, hi) — between zone edges or sensor planes — cannot leave it
+// before the next build. NearList keeps the others; the per-step loop reads only their x (and image).
+class NearList {
+public:
+  void configure(const LAMMPS_NS::Neighbor *neighbor, const LAMMPS_NS::Atom *atom) {
+    usable_ = neighbor->dist_check && neighbor->every == 1 && neighbor->delay == 0 && !neighbor->build_once &&
+              !atom->radvary_flag;
+    reach_ = neighbor->skin;  // twice the largest move between builds
+  }
+
+  // everyone (a build, a set-up) or an unusable list: look(i) for every particle of the group, then
+  // list those near an edge of their interval bounds[i] = {lo, hi}; otherwise look(i) only for
+  // listed particles that left their interval. look(i) updates bounds[i]. length: the period along x
+  // (0 on an open axis).
+  template <class Look>
+  void visit(bool everyone, const LAMMPS_NS::Atom *atom, int groupbit, double length, double *const *bounds,
+             Look look) {
+    const double *x = atom->x[0];  // x is one contiguous block: x[i][0] = x[0][3 i]
+    const int *image = atom->image;
+    if (everyone || !usable_) {
+      items_.clear();
+      const int nlocal = atom->nlocal;
+      const int *mask = atom->mask;
+      for (int i = 0; i < nlocal; ++i) {
+        if (!(mask[i] & groupbit)) continue;
+        look(i);
+        if (!usable_) continue;
+        const double u = unwrapped_x_fast(x, image, i, length);
+        const double lo = bounds[i][0], hi = bounds[i][1];
+        if (u - lo < reach_ || hi - u <= reach_) items_.push_back({i, lo, hi});
+      }
+      return;
+    }
+    for (Item &n : items_) {
+      const double u = unwrapped_x_fast(x, image, n.i, length);
+      if (u >= n.lo && u < n.hi) continue;
+      look(n.i);
+      n.lo = bounds[n.i][0];
+      n.hi = bounds[n.i][1];
+    }
+  }
+
+private:
+  struct Item {
+    int i;          // local index (valid until the next build)
+    double lo, hi;  // copy of its bounds
+  };
+  std::vector<Item> items_;
+  bool usable_ = false;
+  double reach_ = 0;
+};
+
 // An error unless x lies in the box along x: [lo, hi], or [lo, hi) on a periodic axis where hi is lo.
 inline void check_plane_in_box(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &what, double x,
                                bool upper_open) {
@@ -104,37 +160,6 @@ inline void check_plane_in_box(LAMMPS_NS::LAMMPS *lmp, const std::string &who, c
     fail(lmp, who, what + " x = " + number(x) + " lies outside the simulation box along x [" + number(lo) + ", " +
                        number(hi) + (upper_open ? ")" : "]"));
 }
-
-// LIGGGHTS 3.8 does not keep the simulation time in restart files (it starts again from 0 after
-// read_restart): a fix that reports times keeps its own clock across a restart,
-// now() = get_cur_time() + offset, the offset found at the first set-up after the restart.
-class RestartClock {
-public:
-  double now(const LAMMPS_NS::Update *update) const { return update->get_cur_time() + offset_; }
-  // what write_restart stores: the time and the step
-  void save(const LAMMPS_NS::Update *update, double *time, double *step) const {
-    *time = now(update);
-    *step = static_cast<double>(update->ntimestep);
-  }
-  void load(double time, double step) {
-    restart_time_ = time;
-    restart_step_ = step;
-    pending_ = true;
-  }
-  // call at set-up: continues the clock of the run that wrote the restart file
-  void resume(const LAMMPS_NS::Update *update) {
-    if (!pending_) return;
-    offset_ = restart_time_ +
-              static_cast<double>(update->ntimestep - static_cast<LAMMPS_NS::bigint>(restart_step_)) * update->dt -
-              update->get_cur_time();
-    pending_ = false;
-  }
-
-private:
-  double offset_ = 0;
-  bool pending_ = false;
-  double restart_time_ = 0, restart_step_ = 0;
-};
 
 // Registers a file the style writes / reads (run_files.h); an error when it is already in use.
 inline void claim_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role,
