@@ -160,4 +160,42 @@ COROTATING_ROWS = [
                "a screw turned about another axis sweeps through the barrel"),
 ]
 
-CASES: list[BadInput] = EEPA + MESHES + COROTATING_ROWS
+# ---- an error raised on rank 1 only, during a run: the log holds it and rank 0's thermo before it ----
+def x_screw() -> str:
+    """Two planes through the x axis at +-45 degrees (an X in cross-section; area centroid on the axis):
+    a particle sliding into the wedge touches two non-coplanar triangles at once."""
+    h = 0.01 / 2**0.5
+    out = ["solid x"]
+    for z0, dz in ((-h, 2 * h), (h, -2 * h)):
+        corners = [(0, -h, z0), (0.1, -h, z0), (0.1, h, z0 + dz), (0, h, z0 + dz)]
+        for tri in ((0, 1, 2), (0, 2, 3)):
+            out += ["facet normal 0 0 0", " outer loop"] + \
+                   ["  vertex %r %r %r" % corners[k] for k in tri] + [" endloop", "endfacet"]
+    return "\n".join(out + ["endsolid x"]) + "\n"
+
+
+RANK1 = MESH_BOX.replace("region box block -0.02 0.02", "processors 2 1 1\nregion box block 0 0.1") + """neighbor 0.0002 bin
+neigh_modify delay 0
+fix screw all mesh/surface file screw.stl type 1
+fix barrel all mesh/surface file barrel.stl type 1
+fix walls all wall/gran/corotating model hertz tangential history mesh n_meshes 2 meshes screw barrel &
+    corotate screw origin 0 0 0 axis 1 0 0 period 100 fixed barrel max_contacts 1
+create_atoms 1 single 0.075 0 0.00072 units box
+set atom * diameter 0.001 density 2500
+velocity all set 0 0 -0.01 units box
+fix integr all nve/sphere
+timestep 1e-6
+thermo_style custom step atoms
+thermo 100
+run 3000
+"""
+
+MPI = [
+    BadInput("lmp.mpi.rank1-max-contacts-mid-run",
+             ("800 1", "1100 1", "ERROR on proc 1: fix walls wall/gran/corotating: particle 1 touches more than "
+                                 "max_contacts = 1 screw triangles at once"),
+             why="an error of rank 1 (the particle is there) reached only stderr and rank 0's thermo was lost",
+             lmp_input=RANK1, files={"screw.stl": x_screw(), "barrel.stl": GOOD_STL}, nprocs=2),
+]
+
+CASES: list[BadInput] = EEPA + MESHES + COROTATING_ROWS + MPI
