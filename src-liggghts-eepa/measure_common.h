@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -224,18 +225,21 @@ inline FILE *open_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const s
   std::string problem;
   FILE *fp = nullptr;
   if (lmp->comm->me == 0) {
+    // the header lines (leading '#' lines) of the file as it is, and its size; not the whole file
     std::string old;
-    if (FILE *in = std::fopen(path.c_str(), "rb")) {
-      char buffer[4096];
-      std::size_t n;
-      while ((n = std::fread(buffer, 1, sizeof buffer, in)) > 0) old.append(buffer, n);
-      std::fclose(in);
+    long size = 0;
+    std::ifstream in(path, std::ios::binary);
+    if (in) {
+      for (std::string line; std::getline(in, line) && !line.empty() && line[0] == '#';) old += line + "\n";
+      in.clear();
+      in.seekg(0, std::ios::end);
+      size = static_cast<long>(in.tellg());
     }
-    if (!old.empty() && mode == Append::no && continuing) {
-      problem = "'append no' would overwrite the " + role + " '" + path + "' (" + std::to_string(old.size()) +
+    if (size > 0 && mode == Append::no && continuing) {
+      problem = "'append no' would overwrite the " + role + " '" + path + "' (" + std::to_string(size) +
                 " bytes) that the run which wrote the restart file may have filled; continue it with 'append yes' "
                 "(the default after read_restart) or give another file name";
-    } else if (!old.empty() && append) {
+    } else if (size > 0 && append) {
       const auto had = detail::header_lines(old, free_prefixes), want = detail::header_lines(header, free_prefixes);
       if (had != want) {
         std::size_t k = 0;
@@ -250,7 +254,7 @@ inline FILE *open_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const s
       fp = std::fopen(path.c_str(), append ? "a" : "w");
       if (!fp) {
         problem = "cannot open the " + role + " '" + path + "' for writing: " + std::strerror(errno);
-      } else if (!append || old.empty()) {
+      } else if (!append || size == 0) {
         std::fputs(header.c_str(), fp);
         std::fflush(fp);
       }
