@@ -35,9 +35,9 @@ namespace LAMMPS_NS {
 class ComputeElementStats : public Compute {
 public:
   ComputeElementStats(class LAMMPS *, int &, int, char **);
-  ~ComputeElementStats();
-  void init();
-  void compute_array();
+  ~ComputeElementStats() override;
+  void init() override;
+  void compute_array() override;
 
 private:
   std::string zones_path_;

@@ -29,26 +29,26 @@ namespace LAMMPS_NS {
 class FixMassflowPlanes : public Fix {
 public:
   FixMassflowPlanes(class LAMMPS *, int, char **);
-  ~FixMassflowPlanes();
-  int setmask();
-  void init();
-  void setup(int);
-  void end_of_step();
-  void post_run();
-  double compute_vector(int);
+  ~FixMassflowPlanes() override;
+  int setmask() override;
+  void init() override;
+  void setup(int) override;
+  void end_of_step() override;
+  void post_run() override;
+  double compute_vector(int) override;
 
-  void grow_arrays(int);
-  void copy_arrays(int, int, int);
-  void set_arrays(int);
-  int pack_exchange(int, double *);
-  int unpack_exchange(int, double *);
-  int pack_restart(int, double *);
-  void unpack_restart(int, int);
-  int size_restart(int);
-  int maxsize_restart();
-  void write_restart(FILE *);
-  void restart(char *);
-  double memory_usage();
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  void set_arrays(int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  double memory_usage() override;
 
 private:
   double unwrapped_x(int i, double near) const;
