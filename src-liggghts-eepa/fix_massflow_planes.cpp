@@ -2,7 +2,6 @@
 #include "fix_massflow_planes.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -203,11 +202,7 @@ void FixMassflowPlanes::end_of_step()
   for (size_t k = 0; k < nplanes; ++k) rate_[k] = total[k] / window_time_ * tsg::flow::kSecondsPerHour;
   if (fp_) {
     std::string line = std::to_string(update->ntimestep) + " " + number(now());
-    char buffer[32];
-    for (double r : rate_) {
-      snprintf(buffer, sizeof buffer, " %.10g", r);
-      line += buffer;
-    }
+    for (double r : rate_) line += " " + number(r);
     line += "\n";
     fputs(line.c_str(), fp_);
     fflush(fp_);

@@ -15,7 +15,6 @@
 #include "fix_residence_time.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -299,14 +298,11 @@ void FixResidenceTime::check_ids()
   for (int i = 0; i < atom->nlocal; ++i) {
     if (!(atom->mask[i] & groupbit)) continue;
     const double *s = state_[i];
-    if (s[Slot::status] != res::kUnseen && s[Slot::id] != tag[i]) {
-      char message[256];
-      snprintf(message, sizeof message,
-               "fix %s residence/time: particle id changed from %.0f to %d (ids renumbered, e.g. by "
-               "delete_atoms ... compress yes); residence tracking needs stable ids: use compress no",
-               id, s[Slot::id], tag[i]);
-      error->one(FLERR, message);
-    }
+    if (s[Slot::status] != res::kUnseen && s[Slot::id] != tag[i])
+      tsg::measure::fail_one(lmp, std::string("fix ") + id + " residence/time",
+                             "particle id changed from " + number(s[Slot::id]) + " to " + std::to_string(tag[i]) +
+                                 " (ids renumbered, e.g. by delete_atoms ... compress yes); residence tracking "
+                                 "needs stable ids: use compress no");
   }
 }
 
