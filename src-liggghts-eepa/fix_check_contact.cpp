@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -52,7 +53,9 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
   // every keyword is validated here, each with one message naming it, its value and what is allowed
   auto fail = [&](const std::string &message) { error->fix_error(FLERR, this, message.c_str()); };
   auto positive_number = [&](const std::string &key, const char *value, const char *allowed) {
-    const double number = force->numeric(FLERR, value);
+    char *end = nullptr;
+    const double number = strtod(value, &end);
+    if (end == value || *end != '\0') fail(key + " = " + value + " is not a number");
     if (!(number > 0 && std::isfinite(number)))
       fail(key + " = " + value + " is outside the allowed range " + allowed);
     return number;
@@ -62,8 +65,11 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
     const std::string key = arg[iarg];
     const char *value = arg[iarg + 1];
     if (key == "every") {
-      check_every_ = force->inumeric(FLERR, value);
-      if (check_every_ < 1) fail(std::string("every = ") + value + " must be a positive integer");
+      char *end = nullptr;
+      const long every = strtol(value, &end, 10);
+      if (end == value || *end != '\0' || every < 1 || every > 1000000000)
+        fail(std::string("every = ") + value + " must be a positive integer");
+      check_every_ = static_cast<int>(every);
     } else if (key == "step_fraction") {
       step_fraction_ = positive_number(key, value, "(0, 1]");
       if (step_fraction_ > 1) fail(std::string("step_fraction = ") + value + " is outside the allowed range (0, 1]");
