@@ -92,7 +92,7 @@ def test_wall_overlap_monitor_reads_the_overlap_of_each_mesh(tmp_path, path):
     np.testing.assert_allclose(thermo["check[5]"][1:], PUSH_SPEED, rtol=1e-12)
 
 
-@pytest.mark.parametrize("path,nprocs", [("stock", 1), ("corotating", 1), ("stock", 2)])
+@pytest.mark.parametrize("path,nprocs", [("stock", 1), ("corotating", 1), ("stock", 2), ("corotating", 2)])
 def test_particle_pushed_into_a_wall_stops_the_run(tmp_path, path, nprocs):
     threshold = 0.3
     text, files = pushed_into_plane(path, f"max_wall_overlap {threshold}", 5000)
