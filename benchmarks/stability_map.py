@@ -2,7 +2,7 @@
 scene that exercises the granulator's contacts, compared with the estimate fix check/contact prints.
 
     .venv/bin/python benchmarks/stability_map.py [--cases base,stiff,...] [--out DIR]
-        [--fractions 0.05,0.1,0.2,0.4,0.8,1.6] [--bisections 3] [--window 0.02] [--np 1]
+        [--fractions 0.05,0.1,0.2,0.4,0.8,1.6,3.2] [--bisections 3] [--window 0.02] [--np 1]
 
 Scene (written by this script; particles, materials and contact models from the case includes
 cases/include/materials.in and models.in, so every case parameter is a -var of the real cases): a
@@ -74,7 +74,8 @@ boundary      p f f
 newton        off
 communicate   single vel yes
 units         si
-hard_particles yes                  # the stiff case's moduli exceed LIGGGHTS' SI sanity limit
+hard_particles yes                  # the stiff and soft cases' moduli are outside LIGGGHTS'
+soft_particles yes                  # SI sanity limits (5e6 <= E <= 1e9 Pa)
 region        box block 0 {length!r} -{box!r} {box!r} -{box!r} {box!r} units box
 create_box    2 box
 neighbor      $(0.2*v_d_mean) bin
@@ -307,7 +308,7 @@ def figure(summary: list[dict], runs: list[Run], reference: float, path: Path) -
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cases", default=",".join(CASES), help="comma-separated, from: " + ", ".join(CASES))
-    parser.add_argument("--fractions", default="0.05,0.1,0.2,0.4,0.8,1.6")
+    parser.add_argument("--fractions", default="0.05,0.1,0.2,0.4,0.8,1.6,3.2")
     parser.add_argument("--bisections", type=int, default=3)
     parser.add_argument("--window", type=float, default=0.02, help="simulated time per run, s")
     parser.add_argument("--np", type=int, default=1)
