@@ -209,26 +209,34 @@ void FixCheckContact::check_time_step()
 }
 
 // Every step: a non-finite position, velocity or force, or a particle faster than max_speed.
+// The common case costs one pass without branches on the values: NaN and infinity propagate
+// through a sum, so one finite sum clears every particle; only a non-finite sum (or a speed above
+// the bound) sends a second pass looking for the particle.
 void FixCheckContact::check_motion()
 {
   double **x = atom->x, **v = atom->v, **f = atom->f;
   const int *mask = atom->mask;
-  int bad = -1;
+  const int nlocal = atom->nlocal;
+  double sum = 0;
   double largest = max_speed_squared_window_;
-  for (int i = 0; i < atom->nlocal; ++i) {
+  for (int i = 0; i < nlocal; ++i) {
     if (!(mask[i] & groupbit)) continue;
     const double speed_squared = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
-    // one test for all nine: a sum of finite values of simulation size is finite
-    if (!std::isfinite(x[i][0] + x[i][1] + x[i][2] + speed_squared + f[i][0] + f[i][1] + f[i][2])) {
-      bad = i;
-      break;
-    }
+    sum += x[i][0] + x[i][1] + x[i][2] + f[i][0] + f[i][1] + f[i][2] + speed_squared;
     largest = std::max(largest, speed_squared);
   }
-  max_speed_squared_window_ = largest;
+  int bad = -1;
+  if (!std::isfinite(sum))  // a non-finite value, or finite values too large to add: look
+    for (int i = 0; i < nlocal && bad < 0; ++i)
+      if ((mask[i] & groupbit) &&
+          !(std::isfinite(x[i][0]) && std::isfinite(x[i][1]) && std::isfinite(x[i][2]) && std::isfinite(v[i][0]) &&
+            std::isfinite(v[i][1]) && std::isfinite(v[i][2]) && std::isfinite(f[i][0]) && std::isfinite(f[i][1]) &&
+            std::isfinite(f[i][2])))
+        bad = i;
+  if (std::isfinite(largest)) max_speed_squared_window_ = largest;
   const bool too_fast = bad < 0 && max_speed_ > 0 && largest > max_speed_ * max_speed_;
   if (too_fast)
-    for (int i = 0; i < atom->nlocal && bad < 0; ++i)
+    for (int i = 0; i < nlocal && bad < 0; ++i)
       if ((mask[i] & groupbit) && v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2] > max_speed_ * max_speed_)
         bad = i;
   int mine[2] = {bad >= 0 ? (too_fast ? 1 : 2) : 0, comm->me}, worst[2] = {0, 0};
