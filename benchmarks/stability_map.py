@@ -22,7 +22,8 @@ particle-geometry overlap δ/R (check/contact's monitors; overlaps alone do not 
 unstable: the soft case is meant to show overlaps, not instability).
 
 Writes DIR/stability_map.json (every run), DIR/stability_map.md (the table) and
-DIR/stability_map.png (largest stable fraction per case, and the overlaps at f = 0.1). Not a test:
+DIR/stability_map.png (largest stable fraction per case, and the overlaps at f = 0.1); --merge A.json
+B.json rebuilds them from earlier runs (B's cases replacing A's). Not a test:
 the smoke run tests/cases/test_guards_stability_map.py runs it on a tiny scene.
 """
 from __future__ import annotations
@@ -305,6 +306,29 @@ def figure(summary: list[dict], runs: list[Run], reference: float, path: Path) -
     fig.savefig(path, dpi=120)
 
 
+def merge(paths: list[Path], out: Path) -> int:
+    summary: dict[str, dict] = {}
+    runs: dict[str, list[Run]] = {}
+    fractions: set[float] = set()
+    for path in paths:
+        data = json.loads(path.read_text())
+        fractions |= set(data["fractions"])
+        for entry in data["summary"]:
+            summary[entry["case"]] = entry
+            runs[entry["case"]] = [Run(**r) for r in data["runs"] if r["case"] == entry["case"]]
+    ordered = [summary[c] for c in CASES if c in summary]
+    all_runs = [r for c in CASES if c in runs for r in runs[c]]
+    reference = 0.1 if 0.1 in fractions else min(fractions)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "stability_map.json").write_text(json.dumps(
+        {"merged_from": [str(p) for p in paths], "summary": ordered, "runs": [asdict(r) for r in all_runs]}, indent=1))
+    text = table(ordered, all_runs, reference)
+    (out / "stability_map.md").write_text(text)
+    figure(ordered, all_runs, reference, out / "stability_map.png")
+    print(text)
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cases", default=",".join(CASES), help="comma-separated, from: " + ", ".join(CASES))
@@ -313,7 +337,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--window", type=float, default=0.02, help="simulated time per run, s")
     parser.add_argument("--np", type=int, default=1)
     parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument("--merge", type=Path, nargs="+", default=None, metavar="JSON",
+                        help="no runs: merge earlier results (a case in a later file replaces it in an earlier "
+                             "one) into --out's JSON, table and figure")
     args = parser.parse_args(argv)
+    if args.merge:
+        return merge(args.merge, args.out or Path("."))
     cases = args.cases.split(",")
     unknown = [c for c in cases if c not in CASES]
     if unknown:
