@@ -3,53 +3,107 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
+#include "fix_mesh_surface.h"
+#include "fix_neighlist_mesh.h"
 #include "fix_property_global.h"
+#include "fix_wall_gran.h"
+#include "fix_wall_gran_corotating.h"
 #include "force.h"
 #include "modify.h"
 #include "neigh_list.h"
 #include "pair.h"
+#include "tri_mesh.h"
 #include "update.h"
 
 #include "contact_timestep.h"
 
 using namespace LAMMPS_NS;
 
-FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
-  : Fix(lmp, narg, arg), step_fraction_(0.2), error_on_violation_(false), warned_(false),
-    max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), estimate_(0),
-    youngs_modulus_(nullptr), poisson_ratio_(nullptr), plasticity_ratio_(nullptr)
+namespace {
+
+constexpr int kFixedOutputs = 5;  // pair δ/R run and now, estimate, dt/estimate, speed
+
+std::string number(double v)
 {
-  nevery = 1000;
+  char text[32];
+  snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+struct ValueRank {  // layout of MPI_DOUBLE_INT
+  double value;
+  int rank;
+};
+
+}  // namespace
+
+FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
+  : Fix(lmp, narg, arg), check_every_(1000), step_fraction_(0.2), error_on_violation_(true), warned_(false),
+    max_speed_(0), max_pair_overlap_(0), max_wall_overlap_(0), walls_(nullptr), corotating_walls_(nullptr),
+    max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), max_speed_squared_window_(0), max_speed_now_(0),
+    estimate_(0), youngs_modulus_(nullptr), poisson_ratio_(nullptr), plasticity_ratio_(nullptr)
+{
+  // every keyword is validated here, each with one message naming it, its value and what is allowed
+  auto fail = [&](const std::string &message) { error->fix_error(FLERR, this, message.c_str()); };
+  auto positive_number = [&](const std::string &key, const char *value, const char *allowed) {
+    char *end = nullptr;
+    const double number = strtod(value, &end);
+    if (end == value || *end != '\0') fail(key + " = " + value + " is not a number");
+    if (!(number > 0 && std::isfinite(number)))
+      fail(key + " = " + value + " is outside the allowed range " + allowed);
+    return number;
+  };
   for (int iarg = 3; iarg < narg; iarg += 2) {
-    if (iarg + 1 >= narg)
-      error->fix_error(FLERR, this, (std::string("keyword '") + arg[iarg] + "' needs a value").c_str());
+    if (iarg + 1 >= narg) fail(std::string("keyword '") + arg[iarg] + "' needs a value");
     const std::string key = arg[iarg];
     const char *value = arg[iarg + 1];
     if (key == "every") {
-      nevery = force->inumeric(FLERR, value);
-      if (nevery < 1)
-        error->fix_error(FLERR, this, (std::string("every = ") + value + " must be a positive integer").c_str());
+      char *end = nullptr;
+      const long every = strtol(value, &end, 10);
+      if (end == value || *end != '\0' || every < 1 || every > 1000000000)
+        fail(std::string("every = ") + value + " must be a positive integer");
+      check_every_ = static_cast<int>(every);
     } else if (key == "step_fraction") {
-      step_fraction_ = force->numeric(FLERR, value);
-      if (!(step_fraction_ > 0 && step_fraction_ <= 1))
-        error->fix_error(FLERR, this, (std::string("step_fraction = ") + value + " is outside the allowed range (0, 1]").c_str());
+      step_fraction_ = positive_number(key, value, "(0, 1]");
+      if (step_fraction_ > 1) fail(std::string("step_fraction = ") + value + " is outside the allowed range (0, 1]");
     } else if (key == "action") {
       if (strcmp(value, "warn") == 0) error_on_violation_ = false;
       else if (strcmp(value, "error") == 0) error_on_violation_ = true;
-      else error->fix_error(FLERR, this, (std::string("action = ") + value + " must be 'warn' or 'error'").c_str());
+      else fail(std::string("action = ") + value + " must be 'error' or 'warn'");
+    } else if (key == "max_speed") {
+      max_speed_ = positive_number(key, value, "(0, inf) m/s");
+    } else if (key == "max_pair_overlap") {
+      max_pair_overlap_ = positive_number(key, value, "(0, inf) (overlap / radius)");
+    } else if (key == "max_wall_overlap") {
+      max_wall_overlap_ = positive_number(key, value, "(0, inf) (overlap / radius)");
+    } else if (key == "walls") {
+      wall_fix_id_ = value;
     } else {
-      error->fix_error(FLERR, this, (std::string("unknown keyword '") + key + "' (allowed: every, step_fraction, action)").c_str());
+      fail("unknown keyword '" + key +
+           "' (allowed: every, step_fraction, action, max_speed, max_pair_overlap, walls, max_wall_overlap)");
     }
   }
+  if (max_wall_overlap_ > 0 && wall_fix_id_.empty())
+    fail("max_wall_overlap needs 'walls <ID of a fix wall/gran with meshes>'");
+  if (!wall_fix_id_.empty()) {
+    const int index = modify->find_fix(wall_fix_id_.c_str());
+    FixWallGran *walls = index < 0 ? nullptr : dynamic_cast<FixWallGran *>(modify->fix[index]);
+    if (!walls || !walls->is_mesh_wall())
+      fail("walls = " + wall_fix_id_ + " is not the ID of a fix wall/gran or wall/gran/corotating with meshes");
+    for (int k = 0; k < walls->n_meshes(); ++k) mesh_ids_.push_back(walls->mesh_list()[k]->id);
+    wall_overlap_now_.assign(mesh_ids_.size(), 0.0);
+  }
+  nevery = 1;  // the motion guard runs every step; the rest every check_every_ steps
   vector_flag = 1;
-  size_vector = 4;
-  global_freq = nevery;
+  size_vector = kFixedOutputs + static_cast<int>(mesh_ids_.size());
+  global_freq = check_every_;
   extvector = 0;
 }
 
@@ -66,11 +120,39 @@ void FixCheckContact::init()
       modify->find_fix_property("poissonsRatio", "property/global", "peratomtype", ntypes, 0, style));
   plasticity_ratio_ = static_cast<FixPropertyGlobal *>(
       modify->find_fix_property("plasticityRatio", "property/global", "peratomtypepair", ntypes, ntypes, style, false));
+  walls_ = nullptr;
+  corotating_walls_ = nullptr;
+  if (!wall_fix_id_.empty()) {
+    const int index = modify->find_fix(wall_fix_id_.c_str());
+    walls_ = index < 0 ? nullptr : dynamic_cast<FixWallGran *>(modify->fix[index]);
+    if (!walls_ || walls_->n_meshes() != static_cast<int>(mesh_ids_.size()))
+      error->fix_error(FLERR, this, ("walls = " + wall_fix_id_ + ": the wall fix was deleted or replaced").c_str());
+    corotating_walls_ = dynamic_cast<FixWallGranCorotating *>(walls_);
+  }
 }
 
-void FixCheckContact::setup(int) { check(); }
+void FixCheckContact::setup(int)
+{
+  check_motion();
+  check();
+}
 
-void FixCheckContact::end_of_step() { check(); }
+void FixCheckContact::end_of_step()
+{
+  check_motion();
+  if (update->ntimestep % check_every_ == 0) check();
+}
+
+void FixCheckContact::check()
+{
+  check_time_step();
+  check_pair_overlap();
+  check_wall_overlap();
+  double window = 0;
+  MPI_Allreduce(&max_speed_squared_window_, &window, 1, MPI_DOUBLE, MPI_MAX, world);
+  max_speed_now_ = std::sqrt(window);
+  max_speed_squared_window_ = 0;
+}
 
 // Smallest Rayleigh time over all particles (each with its own radius, density and material),
 // times sqrt(1 - λp) for the largest λp when EEPA is configured.
@@ -97,35 +179,8 @@ double FixCheckContact::critical_step() const
   return global;
 }
 
-// Largest δ / min(Ri, Rj) over the pair style's neighbour list.
-double FixCheckContact::largest_overlap_ratio() const
+void FixCheckContact::check_time_step()
 {
-  double largest = 0;
-  const NeighList *list = force->pair->list;
-  if (list) {
-    double **x = atom->x;
-    const double *radius = atom->radius;
-    for (int ii = 0; ii < list->inum; ++ii) {
-      const int i = list->ilist[ii];
-      if (!(atom->mask[i] & groupbit)) continue;
-      const int *neighbours = list->firstneigh[i];
-      for (int jj = 0; jj < list->numneigh[i]; ++jj) {
-        const int j = neighbours[jj] & NEIGHMASK;
-        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-        const double overlap = radius[i] + radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
-        if (overlap > 0) largest = std::max(largest, overlap / std::min(radius[i], radius[j]));
-      }
-    }
-  }
-  double global = 0;
-  MPI_Allreduce(&largest, &global, 1, MPI_DOUBLE, MPI_MAX, world);
-  return global;
-}
-
-void FixCheckContact::check()
-{
-  max_overlap_ratio_now_ = largest_overlap_ratio();
-  max_overlap_ratio_run_ = std::max(max_overlap_ratio_run_, max_overlap_ratio_now_);
   const double estimate = critical_step();
   if (!std::isfinite(estimate)) return;  // no particles yet
   const bool changed = estimate != estimate_;
@@ -144,12 +199,202 @@ void FixCheckContact::check()
     char message[512];
     snprintf(message, sizeof message,
              "check/contact: time step %.4g s is %.3g of the critical step estimate %.4g s, "
-             "above the allowed step_fraction %.3g; use timestep <= %.4g",
-             update->dt, ratio, estimate_, step_fraction_, step_fraction_ * estimate_);
+             "above the allowed step_fraction %.3g; use timestep <= %.4g%s",
+             update->dt, ratio, estimate_, step_fraction_, step_fraction_ * estimate_,
+             error_on_violation_ ? " (or 'action warn' to run on at your own risk)" : "");
     if (error_on_violation_) error->all(FLERR, message);
     if (!warned_ && comm->me == 0) error->warning(FLERR, message);
     warned_ = true;
   }
+}
+
+// Every step: a non-finite position, velocity or force, or a particle faster than max_speed.
+// The common case costs one pass without branches on the values: NaN and infinity propagate
+// through a sum, so one finite sum clears every particle; only a non-finite sum (or a speed above
+// the bound) sends a second pass looking for the particle.
+void FixCheckContact::check_motion()
+{
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  double sum = 0;
+  double largest = max_speed_squared_window_;
+  for (int i = 0; i < nlocal; ++i) {
+    if (!(mask[i] & groupbit)) continue;
+    const double speed_squared = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
+    sum += x[i][0] + x[i][1] + x[i][2] + f[i][0] + f[i][1] + f[i][2] + speed_squared;
+    largest = std::max(largest, speed_squared);
+  }
+  int bad = -1;
+  if (!std::isfinite(sum))  // a non-finite value, or finite values too large to add: look
+    for (int i = 0; i < nlocal && bad < 0; ++i)
+      if ((mask[i] & groupbit) &&
+          !(std::isfinite(x[i][0]) && std::isfinite(x[i][1]) && std::isfinite(x[i][2]) && std::isfinite(v[i][0]) &&
+            std::isfinite(v[i][1]) && std::isfinite(v[i][2]) && std::isfinite(f[i][0]) && std::isfinite(f[i][1]) &&
+            std::isfinite(f[i][2])))
+        bad = i;
+  if (std::isfinite(largest)) max_speed_squared_window_ = largest;
+  const bool too_fast = bad < 0 && max_speed_ > 0 && largest > max_speed_ * max_speed_;
+  if (too_fast)
+    for (int i = 0; i < nlocal && bad < 0; ++i)
+      if ((mask[i] & groupbit) && v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2] > max_speed_ * max_speed_)
+        bad = i;
+  int mine[2] = {bad >= 0 ? (too_fast ? 1 : 2) : 0, comm->me}, worst[2] = {0, 0};
+  MPI_Allreduce(mine, worst, 1, MPI_2INT, MPI_MAXLOC, world);
+  if (worst[0] == 0) return;
+  std::string message;
+  if (comm->me == worst[1]) {
+    const std::string who = "step " + std::to_string(static_cast<long long>(update->ntimestep)) + ": particle " +
+                            std::to_string(static_cast<long long>(atom->tag[bad]));
+    auto triple = [](const double *a) { return "(" + number(a[0]) + ", " + number(a[1]) + ", " + number(a[2]) + ")"; };
+    if (worst[0] == 2)
+      message = "check/contact: " + who + " has a non-finite position, velocity or force: x " + triple(x[bad]) +
+                " m, v " + triple(v[bad]) + " m/s, f " + triple(f[bad]) + " N; " + contacts_of(bad);
+    else
+      message = "check/contact: " + who + " moves at " +
+                number(std::sqrt(v[bad][0] * v[bad][0] + v[bad][1] * v[bad][1] + v[bad][2] * v[bad][2])) +
+                " m/s, above max_speed = " + number(max_speed_) +
+                " m/s (kinetic energy blow-up: time step too large for the contact stiffness, or a particle "
+                "crushed between walls); " + contacts_of(bad);
+  }
+  stop_at(worst[1], message);
+}
+
+// Deepest particle-particle contact over the pair style's neighbour list (only_atom >= 0: the
+// contacts of that local particle only).
+FixCheckContact::Deepest FixCheckContact::deepest_pair_contact(int only_atom) const
+{
+  Deepest deepest;
+  const NeighList *list = force->pair->list;
+  if (!list) return deepest;
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *mask = atom->mask;
+  for (int ii = 0; ii < list->inum; ++ii) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int *neighbours = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+      const int j = neighbours[jj] & NEIGHMASK;
+      if (only_atom >= 0 && i != only_atom && j != only_atom) continue;
+      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+      const double overlap = radius[i] + radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (!(overlap > 0)) continue;
+      const double ratio = overlap / std::min(radius[i], radius[j]);
+      if (ratio > deepest.overlap_ratio) {
+        const bool i_first = only_atom < 0 || i == only_atom;
+        deepest = {ratio, atom->tag[i_first ? i : j], atom->tag[i_first ? j : i]};
+      }
+    }
+  }
+  return deepest;
+}
+
+// Deepest contact of a particle with a mesh handled by stock fix wall/gran, from that fix's mesh
+// neighbour lists (the triangles within reach of each particle).
+FixCheckContact::Deepest FixCheckContact::deepest_stock_wall_contact(int mesh, int only_atom) const
+{
+  Deepest deepest;
+  FixMeshSurface *surface = walls_->mesh_list()[mesh];
+  TriMesh *triangles = surface->triMesh();
+  FixNeighlistMesh *lists = surface->meshNeighlist();
+  if (!lists) return deepest;
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int nlocal = atom->nlocal;
+  const int ntriangles = triangles->sizeLocal() + triangles->sizeGhost();
+  double delta[3];
+  for (int t = 0; t < ntriangles; ++t)
+    for (const int i : lists->get_contact_list(t)) {
+      if (i >= nlocal || !(atom->mask[i] & groupbit) || (only_atom >= 0 && i != only_atom)) continue;
+      int barysign = 0;
+      const double gap = triangles->resolveTriSphereContact(i, t, radius[i], x[i], delta, barysign);
+      if (-gap > deepest.overlap_ratio * radius[i]) deepest = {-gap / radius[i], atom->tag[i], 0};
+    }
+  return deepest;
+}
+
+// "deepest contact: particle 12 at δ/R 0.31; walls: screw1 0.12, barrel 0.05" for local particle i
+std::string FixCheckContact::contacts_of(int i) const
+{
+  const Deepest pair = deepest_pair_contact(i);
+  std::string text = pair.partner_id ? "deepest particle contact: particle " +
+                                           std::to_string(static_cast<long long>(pair.partner_id)) + " at overlap/radius " +
+                                           number(pair.overlap_ratio)
+                                     : std::string("no particle contact");
+  if (!walls_) return text;
+  std::vector<std::string> touched;
+  if (corotating_walls_) touched = corotating_walls_->meshes_touched(i);
+  std::string walls;
+  for (size_t k = 0; k < mesh_ids_.size(); ++k) {
+    if (corotating_walls_ && corotating_walls_->handles_mesh(mesh_ids_[k])) {
+      if (std::find(touched.begin(), touched.end(), mesh_ids_[k]) != touched.end())
+        walls += (walls.empty() ? "" : ", ") + mesh_ids_[k];
+      continue;
+    }
+    const Deepest wall = deepest_stock_wall_contact(static_cast<int>(k), i);
+    if (wall.overlap_ratio > 0)
+      walls += (walls.empty() ? "" : ", ") + mesh_ids_[k] + " at overlap/radius " + number(wall.overlap_ratio);
+  }
+  return text + "; wall contacts: " + (walls.empty() ? "none" : walls);
+}
+
+void FixCheckContact::check_pair_overlap()
+{
+  const Deepest mine = deepest_pair_contact(-1);
+  ValueRank local{mine.overlap_ratio, comm->me}, global{0, 0};
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  max_overlap_ratio_now_ = global.value;
+  max_overlap_ratio_run_ = std::max(max_overlap_ratio_run_, max_overlap_ratio_now_);
+  if (!(max_pair_overlap_ > 0 && global.value > max_pair_overlap_)) return;
+  std::string message;
+  if (comm->me == global.rank)
+    message = "check/contact: step " + std::to_string(static_cast<long long>(update->ntimestep)) + ": particles " +
+              std::to_string(static_cast<long long>(mine.atom_id)) + " and " +
+              std::to_string(static_cast<long long>(mine.partner_id)) + " overlap by " + number(mine.overlap_ratio) +
+              " of the smaller radius, above max_pair_overlap = " + number(max_pair_overlap_) +
+              " (not physics: particles crushed, or a time step too large)";
+  stop_at(global.rank, message);
+}
+
+void FixCheckContact::check_wall_overlap()
+{
+  if (!walls_) return;
+  const size_t nmeshes = mesh_ids_.size();
+  std::vector<Deepest> mine(nmeshes);
+  std::vector<ValueRank> local(nmeshes), global(nmeshes);
+  for (size_t k = 0; k < nmeshes; ++k) {
+    if (corotating_walls_ && corotating_walls_->handles_mesh(mesh_ids_[k])) {
+      const FixWallGranCorotating::DeepestContact deepest = corotating_walls_->take_deepest(mesh_ids_[k]);
+      mine[k] = {deepest.overlap_ratio, deepest.atom_id, 0};
+    } else {
+      mine[k] = deepest_stock_wall_contact(static_cast<int>(k), -1);
+    }
+    local[k] = {mine[k].overlap_ratio, comm->me};
+  }
+  MPI_Allreduce(local.data(), global.data(), static_cast<int>(nmeshes), MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  for (size_t k = 0; k < nmeshes; ++k) wall_overlap_now_[k] = global[k].value;
+  if (!(max_wall_overlap_ > 0)) return;
+  for (size_t k = 0; k < nmeshes; ++k) {
+    if (!(global[k].value > max_wall_overlap_)) continue;
+    std::string message;
+    if (comm->me == global[k].rank)
+      message = "check/contact: step " + std::to_string(static_cast<long long>(update->ntimestep)) + ": particle " +
+                std::to_string(static_cast<long long>(mine[k].atom_id)) + " overlaps mesh " + mesh_ids_[k] + " by " +
+                number(mine[k].overlap_ratio) + " of its radius, above max_wall_overlap = " +
+                number(max_wall_overlap_) + " (a particle pushed into the wall: crushed in a clearance, or too fast)";
+    stop_at(global[k].rank, message);
+  }
+}
+
+// Stop every rank with the message composed on `rank`.
+void FixCheckContact::stop_at(int rank, const std::string &message)
+{
+  char text[1024] = {0};
+  if (comm->me == rank) strncpy(text, message.c_str(), sizeof text - 1);
+  MPI_Bcast(text, sizeof text, MPI_CHAR, rank, world);
+  error->all(FLERR, text);
+  throw;  // not reached: error->all exits
 }
 
 double FixCheckContact::compute_vector(int n)
@@ -158,6 +403,8 @@ double FixCheckContact::compute_vector(int n)
     case 0: return max_overlap_ratio_run_;
     case 1: return max_overlap_ratio_now_;
     case 2: return estimate_;
-    default: return estimate_ > 0 ? update->dt / estimate_ : 0;
+    case 3: return estimate_ > 0 ? update->dt / estimate_ : 0;
+    case 4: return max_speed_now_;
+    default: return wall_overlap_now_[n - kFixedOutputs];
   }
 }

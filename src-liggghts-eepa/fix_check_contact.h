@@ -1,18 +1,36 @@
-// fix check/contact — time-step estimate and overlap monitor for granular runs.
+// fix check/contact — time-step estimate, overlap monitors and guards that stop a bad run.
 //
-//   fix ID group check/contact [every N] [step_fraction f] [action warn|error]
+//   fix ID group check/contact [every N] [step_fraction f] [action error|warn] [max_speed v]
+//       [max_pair_overlap r] [walls wall-fix-ID] [max_wall_overlap r]
 //
-// At set-up and every N steps: the critical step estimate (Rayleigh time of the smallest particle,
-// shortened by sqrt(1 - λp) where EEPA's stiffer unloading branch applies; physics/contact_timestep.h),
-// compared with the time step; and the largest particle–particle overlap δ/R (R the smaller radius).
-// Global vector for thermo output:
-//   f_ID[1] largest δ/R seen so far in the run    f_ID[2] largest δ/R at the last check
-//   f_ID[3] critical step estimate (s)            f_ID[4] time step / estimate
+// Every N steps (and at set-up):
+// - the critical step estimate (Rayleigh time of the smallest particle, shortened by sqrt(1 - λp)
+//   where EEPA's stiffer unloading branch applies; physics/contact_timestep.h), compared with the
+//   time step: above step_fraction f of it the run stops (action error, the default) or warns
+//   once (action warn);
+// - the largest particle–particle overlap δ/R (R the smaller radius); above max_pair_overlap the
+//   run stops naming both particles;
+// - with walls: the largest overlap δ/R of any particle with each mesh of that fix wall/gran or
+//   wall/gran/corotating. A wall/gran/corotating fix records it at every step between checks for
+//   its corotate/fixed meshes; other meshes are measured at the check (triangles from the wall
+//   fix's own mesh neighbour lists). Above max_wall_overlap the run stops naming the particle and
+//   the mesh.
+// At every step: a non-finite position, velocity or force, or a particle faster than max_speed,
+// stops the run with the step, the particle and its deepest contacts.
+// Keywords not given switch their guard off (the time-step check and the non-finite check are
+// always on). Global vector for thermo output:
+//   f_ID[1] largest pair δ/R seen so far in the run   f_ID[2] largest pair δ/R at the last check
+//   f_ID[3] critical step estimate (s)                f_ID[4] time step / estimate
+//   f_ID[5] largest particle speed since the previous check (m/s)
+//   f_ID[5+k] largest δ/R against the k-th mesh of the walls fix since the previous check
 #ifdef FIX_CLASS
 FixStyle(check/contact,FixCheckContact)
 #else
 #ifndef TSG_FIX_CHECK_CONTACT_H
 #define TSG_FIX_CHECK_CONTACT_H
+
+#include <string>
+#include <vector>
 
 #include "fix.h"
 
@@ -28,15 +46,39 @@ public:
   double compute_vector(int);
 
 private:
-  void check();
-  double critical_step() const;
-  double largest_overlap_ratio() const;
+  struct Deepest {  // a largest overlap and who has it
+    double overlap_ratio = 0;
+    tagint atom_id = 0;
+    tagint partner_id = 0;  // the other particle of a pair contact
+  };
 
-  double step_fraction_;       // largest allowed dt / estimate
+  void check();
+  void check_time_step();
+  void check_motion();
+  void check_pair_overlap();
+  void check_wall_overlap();
+  double critical_step() const;
+  Deepest deepest_pair_contact(int only_atom) const;
+  Deepest deepest_stock_wall_contact(int mesh, int only_atom) const;
+  std::string contacts_of(int i) const;
+  [[noreturn]] void stop_at(int rank, const std::string &message);
+
+  int check_every_;
+  double step_fraction_;  // largest allowed dt / estimate
   bool error_on_violation_;
   bool warned_;
+  double max_speed_;             // m/s; 0: off
+  double max_pair_overlap_;      // δ/R; 0: off
+  double max_wall_overlap_;      // δ/R; 0: off
+  std::string wall_fix_id_;      // empty: no wall monitor
+  class FixWallGran *walls_;
+  class FixWallGranCorotating *corotating_walls_;
+  std::vector<std::string> mesh_ids_;
+  std::vector<double> wall_overlap_now_;
   double max_overlap_ratio_run_;
   double max_overlap_ratio_now_;
+  double max_speed_squared_window_;  // this rank, since the previous check
+  double max_speed_now_;
   double estimate_;
   class FixPropertyGlobal *youngs_modulus_;
   class FixPropertyGlobal *poisson_ratio_;

@@ -575,6 +575,8 @@ void FixWallGranCorotating::corotating_contacts()
       const double deltan = c.distance - radius[i];
       if (!(deltan <= 0.0 || deltan < touch_factor * radius[i])) continue;
       const bool intersect = deltan <= 0.0;
+      if (-deltan > s.deepest.overlap_ratio * radius[i])
+        s.deepest = {-deltan / radius[i], atom->tag[i]};
       bool accepted = false;
       double *history = handle_contact(i, s, cand.triangle, c.feature == tmesh::Feature::face, accepted);
       if (!accepted) continue;
@@ -670,6 +672,38 @@ void FixWallGranCorotating::clean_up_contacts()
         if (history_size_)
           std::fill(&contact_history_[i][k * history_size_], &contact_history_[i][(k + 1) * history_size_], 0.0);
       }
+}
+
+bool FixWallGranCorotating::handles_mesh(const std::string &mesh_id) const
+{
+  for (const Screw &s : screws_)
+    if (s.mesh_id == mesh_id) return true;
+  return false;
+}
+
+FixWallGranCorotating::DeepestContact FixWallGranCorotating::take_deepest(const std::string &mesh_id)
+{
+  for (Screw &s : screws_)
+    if (s.mesh_id == mesh_id) {
+      const DeepestContact deepest = s.deepest;
+      s.deepest = DeepestContact{};
+      return deepest;
+    }
+  return DeepestContact{};
+}
+
+std::vector<std::string> FixWallGranCorotating::meshes_touched(int i) const
+{
+  std::vector<std::string> touched;
+  for (const Screw &s : screws_)
+    for (int k = 0; k < max_contacts_; ++k) {
+      const int key = contact_key_[i][k];
+      if (key >= s.key_offset && key < s.key_offset + static_cast<int>(s.triangles.size())) {
+        touched.push_back(s.mesh_id);
+        break;
+      }
+    }
+  return touched;
 }
 
 // [7 s + 0..2]: force on screw s (N); [7 s + 3..5]: torque on it about its origin (N m);

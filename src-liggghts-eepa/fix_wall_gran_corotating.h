@@ -14,6 +14,8 @@
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
 // screw_dump writes each screw in its current pose every N steps as legacy VTK,
 // <prefix>_<mesh ID>_<step>.vtk (rank 0); N = 0 writes none.
+// Deepest contact per mesh: the largest overlap δ/R of any particle with each of its meshes since
+// the last take_deepest() (every step counted), read by fix check/contact's wall-overlap monitor.
 // When deleted (end of input or unfix) the fix reports the time spent in its own contact handling
 // per step (slowest rank) and how many candidate lists were built.
 //
@@ -52,6 +54,17 @@ class FixWallGranCorotating : public FixWallGran {
   void end_of_step() override;
   double compute_vector(int n) override;
 
+  // Largest δ/R against a mesh since the previous call, and the atom ID that had it (0: none, on
+  // this rank); resets the record. handles_mesh: the mesh is one of this fix's corotate/fixed meshes.
+  struct DeepestContact {
+    double overlap_ratio = 0.0;
+    tagint atom_id = 0;
+  };
+  bool handles_mesh(const std::string &mesh_id) const;
+  DeepestContact take_deepest(const std::string &mesh_id);
+  // IDs of the corotate/fixed meshes local particle i has a contact with at present
+  std::vector<std::string> meshes_touched(int i) const;
+
   void grow_arrays(int nmax) override;
   void copy_arrays(int i, int j, int delflag) override;
   void set_arrays(int i) override;
@@ -85,6 +98,7 @@ class FixWallGranCorotating : public FixWallGran {
     int key_offset = 0;      // contact keys of this screw: key_offset + triangle index
     double load[6] = {0, 0, 0, 0, 0, 0};  // force on the screw and torque about its origin, this rank
     double angle = 0.0;                   // θ at the last force evaluation
+    DeepestContact deepest;               // since the last take_deepest()
   };
 
   static int wall_gran_arguments(int narg, char **arg);

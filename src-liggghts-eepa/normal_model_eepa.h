@@ -19,6 +19,7 @@ NORMAL_MODEL(EEPA,eepa,20)
 #include "force.h"
 #include "global_properties.h"
 #include "normal_model_base.h"
+#include "update.h"
 
 #include "eepa_law.h"
 
@@ -35,6 +36,7 @@ public:
     // Scalars: flag "0" keeps LIGGGHTS from negating them for the partner atom on exchange.
     max_overlap_offset_ = hsetup->add_history_value("eepa_max_overlap", "0");
     plastic_overlap_offset_ = hsetup->add_history_value("eepa_plastic_overlap", "0");
+    last_touch_step_offset_ = hsetup->add_history_value("eepa_last_touch_step", "0");
   }
 
   void registerSettings(Settings &settings)
@@ -64,13 +66,22 @@ public:
     const double reff = sidata.is_wall ? sidata.radi : sidata.radi * sidata.radj / (sidata.radi + sidata.radj);
     const tsg::eepa::Parameters law = eepa_properties_.parameters(Yeff_[itype][jtype], reff, itype, jtype);
 
+    // A contact starts virgin (docs/eepa-law.md, "Separation"). LIGGGHTS calls this function only
+    // while the surfaces overlap and keeps a pair's history until the next neighbour rebuild (with
+    // contact_distance_factor > 1 even across rebuilds), so a separation is detected here: a
+    // contact not evaluated on the previous step has been apart in between.
     double *history = sidata.contact_history;
-    const tsg::eepa::History previous{history[max_overlap_offset_], history[plastic_overlap_offset_]};
+    const double step = static_cast<double>(update->ntimestep);
+    const bool touched_last_step = history[last_touch_step_offset_] >= step - 1;
+    const tsg::eepa::History previous = touched_last_step
+        ? tsg::eepa::History{history[max_overlap_offset_], history[plastic_overlap_offset_]}
+        : tsg::eepa::History{};
     const tsg::eepa::State state =
         tsg::eepa::evaluate(law, previous, sidata.deltan, eepa_properties_.plastic_root(itype, jtype));
     if (sidata.computeflag && sidata.shearupdate) {
       history[max_overlap_offset_] = state.history.max_overlap;
       history[plastic_overlap_offset_] = state.history.plastic_overlap;
+      history[last_touch_step_offset_] = step;
     }
 
     // dashpot with the active branch's tangent stiffness; LIGGGHTS' vn is -dδ/dt
@@ -105,9 +116,11 @@ public:
     }
   }
 
+  // Apart but within contact_distance_factor: not a contact, so the pair's history need not
+  // survive a neighbour rebuild (the reset itself happens on the next touch, above).
   void surfacesClose(SurfacesCloseData &scdata, ForceData &, ForceData &)
   {
-    if (scdata.contact_flags) *scdata.contact_flags |= CONTACT_NORMAL_MODEL;
+    if (scdata.contact_flags) *scdata.contact_flags &= ~CONTACT_NORMAL_MODEL;
   }
 
   void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
@@ -119,6 +132,7 @@ private:
   bool tangential_damping_ = true;
   int max_overlap_offset_ = -1;
   int plastic_overlap_offset_ = -1;
+  int last_touch_step_offset_ = -1;
   tsg::EepaProperties eepa_properties_;
 };
 

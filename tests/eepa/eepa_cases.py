@@ -51,38 +51,49 @@ class Eepa:
         return 4.0 / 3.0 * E_EFF * R_EFF ** (2 - self.slope_exponent)
 
 
-def reference_force(overlaps: np.ndarray, law: Eepa) -> np.ndarray:
-    """EEPA hysteretic force along an overlap path (docs/eepa.md, Thakur 2014 eqs. for the three
-    branches; pull-off from the plastic overlap at the largest overlap)."""
-    k1, lam, n, x = law.k1(), law.plasticity_ratio, law.slope_exponent, law.tension_exponent
-    k2 = k1 / (1 - lam)
-    f0 = law.pull_off_force
-    max_overlap, plastic_n = 0.0, 0.0
-    forces = np.zeros_like(overlaps)
-    for index, overlap in enumerate(overlaps):
+class ReferenceContact:
+    """EEPA hysteretic force of one contact, evaluated step by step along its overlap path
+    (docs/eepa.md, Thakur 2014 eqs. for the three branches; pull-off from the plastic overlap at
+    the largest overlap). A new contact, and one whose overlap has gone to zero, is virgin."""
+
+    def __init__(self, law: Eepa, effective_radius: float = R_EFF) -> None:
+        self.law = law
+        self.effective_radius = effective_radius
+        self.k1 = law.k1() * (effective_radius / R_EFF) ** (2 - law.slope_exponent)
+        self.max_overlap = 0.0
+        self.plastic_n = 0.0
+
+    def force(self, overlap: float) -> float:
+        law = self.law
+        lam, n, x, f0 = law.plasticity_ratio, law.slope_exponent, law.tension_exponent, law.pull_off_force
+        k1 = self.k1
+        k2 = k1 / (1 - lam)
         if overlap <= 0:
-            max_overlap, plastic_n = 0.0, 0.0   # contact lost: LIGGGHTS drops the history
-            continue
+            self.max_overlap, self.plastic_n = 0.0, 0.0      # contact lost: starts virgin
+            return 0.0
         overlap_n = overlap**n
-        if lam * overlap_n >= plastic_n:                      # virgin loading, k1 line
-            max_overlap = max(max_overlap, overlap)
-            plastic_n = lam * overlap_n
-            forces[index] = f0 + k1 * overlap_n
-            continue
-        plastic_max_n = lam * max_overlap**n                  # δp of the virgin unloading line
+        if lam * overlap_n >= self.plastic_n:                 # virgin loading, k1 line
+            self.max_overlap = max(self.max_overlap, overlap)
+            self.plastic_n = lam * overlap_n
+            return f0 + k1 * overlap_n
+        plastic_max_n = lam * self.max_overlap**n             # δp of the virgin unloading line
         pull = 0.0
         if law.surface_energy > 0:
-            contact_radius = math.sqrt(2 * R_EFF * plastic_max_n ** (1 / n))
+            contact_radius = math.sqrt(2 * self.effective_radius * plastic_max_n ** (1 / n))
             f_min = min(1.5 * math.pi * law.surface_energy * contact_radius, 0.5 * k2 * plastic_max_n)
             overlap_min = (plastic_max_n - f_min / k2) ** (1 / n)
             pull = f_min if overlap >= overlap_min else f_min * (overlap / overlap_min) ** x
-        line = k2 * (overlap_n - plastic_n)
+        line = k2 * (overlap_n - self.plastic_n)
         if line >= -pull:                                     # unloading / reloading, k2 line
-            forces[index] = f0 + line
-        else:                                                 # adhesive branch
-            forces[index] = f0 - pull
-            plastic_n = overlap_n + pull / k2
-    return forces
+            return f0 + line
+        self.plastic_n = overlap_n + pull / k2                # adhesive branch
+        return f0 - pull
+
+
+def reference_force(overlaps: np.ndarray, law: Eepa) -> np.ndarray:
+    """EEPA hysteretic force along an overlap path (ReferenceContact)."""
+    contact = ReferenceContact(law)
+    return np.array([contact.force(float(overlap)) for overlap in overlaps])
 
 
 def closed_form_restitution(plasticity_ratio: float, slope_exponent: float) -> float:
