@@ -31,7 +31,7 @@ from tsg_harness import lmp_executable, mpi_command
 
 ROOT = Path(__file__).resolve().parents[2]
 TRACEBACK = re.compile(r"Traceback \(most recent call last\)")
-NAN = re.compile(r"(?<![A-Za-z_])[-+]?nan(?![A-Za-z_])", re.IGNORECASE)
+NAN = re.compile(r"(?<![A-Za-z_'])[-+]?nan(?![A-Za-z_'])", re.IGNORECASE)  # a quoted 'nan' is the user's text
 
 
 @dataclass(frozen=True)
