@@ -15,9 +15,9 @@ import numpy as np
 
 from .dumps import ParticleFrame
 from .run_files import AnalysisInputError, MassFlowRecord
+from .uncertainty import Estimate, estimate_mean
 
 STEADY_TOLERANCE = 0.05  # relative inlet/outlet difference
-STEADY_WINDOW_S = 0.1  # one screw revolution at 600 rpm: sensors fluctuate with the flight passage
 STEADY_MIN_WINDOWS = 2
 SECONDS_PER_HOUR = 3600.0
 
@@ -90,7 +90,7 @@ def window_means(record: MassFlowRecord, window: float) -> tuple[np.ndarray, np.
         return starts, means / weights[:, None]
 
 
-def decide_steady_state(record: MassFlowRecord, window: float = STEADY_WINDOW_S,
+def decide_steady_state(record: MassFlowRecord, window: float,
                         tolerance: float = STEADY_TOLERANCE, min_windows: int = STEADY_MIN_WINDOWS) -> SteadyState:
     starts, means = window_means(record, window)
     end = float(record.time[-1]) if len(record.time) else 0.0
@@ -123,18 +123,20 @@ def decide_steady_state(record: MassFlowRecord, window: float = STEADY_WINDOW_S,
                    f"within {tolerance:.0%} up to the end)")
 
 
-def mean_flows(record: MassFlowRecord, start: float, end: float) -> tuple[np.ndarray, np.ndarray]:
-    """Time-weighted mean flow (kg/h) of each sensor over the rows whose interval middle lies in
-    (start, end], and the standard deviation of the per-row flows as a measure of their fluctuation."""
+def sensor_flows(record: MassFlowRecord, start: float | None, end: float | None = None) -> dict[str, Estimate]:
+    """Mean flow (kg/h) of each sensor ± 95 % interval over the rows whose interval middle lies in
+    (start, end] (all rows when start is None); rows are equal windows of the fix, so each counts once.
+    Start-up detection runs on the whole record and is reported beside `start`."""
     durations = _row_durations(record.time)
     middle = record.time - 0.5 * durations
-    rows = (middle > start) & (middle <= end)
+    low = -np.inf if start is None else start
+    high = np.inf if end is None else end
+    rows = (middle > low) & (middle <= high)
     if not rows.any():
-        raise AnalysisInputError(f"massflow.txt has no rows between {start:.4g} s and {end:.4g} s")
-    weights = durations[rows]
-    mean = weights @ record.flow[rows] / weights.sum()
-    spread = np.sqrt(weights @ (record.flow[rows] - mean) ** 2 / weights.sum())
-    return mean, spread
+        raise AnalysisInputError(f"massflow.txt has no rows between {low:.4g} s and {high:.4g} s")
+    chosen = float(middle[rows][0])
+    return {name: estimate_mean(record.flow[:, k][middle <= high], middle[middle <= high], chosen)
+            for k, name in enumerate(record.sensor_names)}
 
 
 def particle_masses(frame: ParticleFrame, density: float | None) -> np.ndarray:

@@ -115,8 +115,8 @@ def _round_significant(value: float, digits: int = 2) -> str:
 def format_interval(mean: float, half_width: float, signed: bool = False) -> str:
     """Half-width to 2 significant digits and the mean to the same decimal place."""
     sign = "+" if signed else ""
-    if not math.isfinite(half_width) or half_width == 0:
-        return f"{mean:{sign}.4g} ± {half_width:g}"
+    if not math.isfinite(half_width) or half_width <= 1e-12 * abs(mean):  # exact up to rounding
+        return f"{mean:{sign}.6g} ± {0.0 if math.isfinite(half_width) else half_width:g}"
     decimals = max(0, 1 - int(math.floor(math.log10(abs(half_width)))))
     if decimals == 0:
         return f"{mean:{sign}.0f} ± {half_width:.0f}"
