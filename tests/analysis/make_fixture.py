@@ -235,6 +235,28 @@ def write_run(run_dir: Path | str, *, kind: str = "periodic", steady: bool = Tru
     return FixtureTruth(zone_edges, records, rtd_records)
 
 
+def write_short_run(run_dir: Path | str, seconds: float = 0.03, every: int = 5, seed: int = 5) -> None:
+    """The main job's situation (issue 15): a periodic run whose sampling window is far shorter than
+    one pass. A periodic run cut to its first `seconds` of records, with every `every`-th
+    mass-flow row (5 ms windows as the demo scale writes) and no complete residence record."""
+    run_dir = Path(run_dir)
+    write_run(run_dir, kind="periodic", dumps=None, meshes=False, seed=seed)
+    end = RECORD_START + seconds + 1e-9
+    flow_lines = (run_dir / "massflow.txt").read_text().splitlines()
+    header = [line for line in flow_lines if line.startswith("#")]
+    rows = [line for line in flow_lines if not line.startswith("#") and float(line.split()[1]) <= end]
+    (run_dir / "massflow.txt").write_text("\n".join(header + rows[every - 1::every]) + "\n")
+    element_lines = (run_dir / "elements.txt").read_text().splitlines()
+    zones = len(LAYOUTS["periodic"])
+    kept = element_lines[:3]
+    for start in range(3, len(element_lines), zones + 1):
+        if int(element_lines[start].split()[0]) * DT <= end:
+            kept += element_lines[start:start + zones + 1]
+    (run_dir / "elements.txt").write_text("\n".join(kept) + "\n")
+    residence_header = [line for line in (run_dir / "residence.txt").read_text().splitlines() if line.startswith("#")]
+    (run_dir / "residence.txt").write_text("\n".join(residence_header) + "\n")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dir", type=Path)
