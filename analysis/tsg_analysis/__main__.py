@@ -69,14 +69,13 @@ def _check_report_arguments(args: argparse.Namespace) -> list[str] | None:
 
 
 def _report(args: argparse.Namespace) -> int:
-    from .model import Settings
-    from .report import build_report
-
     labels = _check_report_arguments(args)
     try:
         args.out.mkdir(parents=True, exist_ok=True)
     except OSError as err:
         raise UsageError(f"--out {args.out}: cannot create the directory ({err.strerror})") from None
+    from .model import Settings  # heavy imports (matplotlib, pymbar) only once the arguments are good
+    from .report import build_report
     settings = Settings(steady_window=args.steady_window, steady_tolerance=args.steady_tolerance,
                         require_steady=args.require_steady, bin_size=args.bin_size,
                         particle_density=args.density, snapshot=not args.no_snapshot)

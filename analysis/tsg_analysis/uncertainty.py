@@ -22,15 +22,13 @@ import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 
-import numpy as np
+from types import ModuleType
 
-logging.getLogger("pymbar").setLevel(logging.ERROR)  # pymbar warns about JAX and its own caveats on import
-from pymbar import timeseries  # noqa: E402  (after silencing its import-time warnings)
-from scipy import stats  # noqa: E402
+import numpy as np
 
 CONFIDENCE = 0.95
 MIN_INDEPENDENT = 10.0  # fewer independent samples: the interval itself is too uncertain to claim a number
-DRIFT_QUANTILE = float(stats.norm.ppf(0.995))  # halves differ beyond it: drift (1 % false alarms)
+DRIFT_QUANTILE = 2.5758293035489004  # Φ⁻¹(0.995): halves differ beyond it: drift (1 % false alarms)
 MIN_INDEPENDENT_PER_HALF = 5.0  # the drift test needs this many independent samples in each half
 DETECTION_ORIGINS = 200  # at most this many candidate origins for detect_equilibration (cost)
 
@@ -123,7 +121,18 @@ def format_interval(mean: float, half_width: float, signed: bool = False) -> str
     return f"{mean:{sign}.{decimals}f} ± {half_width:.{decimals}f}"
 
 
+def _timeseries() -> ModuleType:
+    """pymbar.timeseries, imported on first use (pymbar and scipy take a second to import, which a
+    command line that only checks its arguments should not pay)."""
+    logging.getLogger("pymbar").setLevel(logging.ERROR)  # pymbar warns about JAX and its own caveats on import
+    from pymbar import timeseries
+
+    return timeseries
+
+
 def t_quantile(degrees_of_freedom: float) -> float:
+    from scipy import stats
+
     return float(stats.t.ppf(0.5 + CONFIDENCE / 2, max(degrees_of_freedom, 1.0)))
 
 
@@ -132,7 +141,7 @@ def statistical_inefficiency(values: np.ndarray) -> float:
     values = np.asarray(values, dtype=np.float64)
     if len(values) < 2 or np.ptp(values) == 0:
         return 1.0
-    return float(timeseries.statistical_inefficiency(values))
+    return float(_timeseries().statistical_inefficiency(values))
 
 
 def _mean_and_error(values: np.ndarray) -> tuple[float, float, float]:
@@ -167,7 +176,7 @@ def detect_start(values: np.ndarray, times: np.ndarray | None = None) -> float |
     if np.ptp(values) == 0:
         origin = 0
     else:
-        origin = int(timeseries.detect_equilibration(values, fast=True,
+        origin = int(_timeseries().detect_equilibration(values, fast=True,
                                                      nskip=max(1, len(values) // DETECTION_ORIGINS))[0])
     return float(times[origin]) if times is not None else float(origin)
 

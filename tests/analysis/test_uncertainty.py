@@ -158,3 +158,11 @@ def test_cost_of_intervals_on_a_million_records_and_a_10k_series():
     elapsed = time.perf_counter() - start
     assert on_records.resolved and on_series.resolved and on_series.detected_start is not None
     assert elapsed < 5.0, f"{elapsed:.2f} s (measured under whatever load the machine has)"
+
+
+def test_drift_quantile_is_the_two_sided_99_percent_normal_quantile():
+    from scipy import stats
+
+    from tsg_analysis.uncertainty import DRIFT_QUANTILE
+
+    assert DRIFT_QUANTILE == pytest.approx(stats.norm.ppf(0.995), rel=1e-12)
