@@ -80,8 +80,8 @@ def _nothing_to_plot(path: Path, message: str) -> Path:
 
 def plot_profiles(path: Path, profiles: list[tuple[str, ElementProfile]]) -> Path:
     """Solid fraction, residence time, velocity magnitude and longitudinal velocity per element
-    for one run or a family of runs (seed Figs. 9, 10, 12–16); bars: 95 % intervals (none where the
-    window is too short for one)."""
+    for one run or a family of runs (seed Figs. 9, 10, 12–16); bars: 95 % intervals; hollow points:
+    too few independent samples, the bar is indicative only."""
     if not profiles:
         return _nothing_to_plot(path, "no run has element profiles (see the report's 'Not produced')")
     positions = aligned_positions([profile.zones for _, profile in profiles])
@@ -93,8 +93,18 @@ def plot_profiles(path: Path, profiles: list[tuple[str, ElementProfile]]) -> Pat
     for ax, (quantity, axis_label) in zip(axes.flat, QUANTITIES.items()):
         for (label, profile), where in zip(profiles, positions):
             estimates = profile.estimates.get(quantity)
-            errors = None if estimates is None else [e.half_width if e.resolved else np.nan for e in estimates]
-            ax.errorbar(where, profile.values[quantity], yerr=errors, fmt="o-", capsize=3, label=label)
+            if estimates is None:
+                continue
+            resolved = np.array([e.resolved for e in estimates])
+            errors = np.array([e.half_width for e in estimates])
+            line, = ax.plot(where, profile.values[quantity], "-", label=label)
+            ax.errorbar(where[resolved], profile.values[quantity][resolved], yerr=errors[resolved], fmt="o",
+                        color=line.get_color(), capsize=3)
+            ax.errorbar(where[~resolved], profile.values[quantity][~resolved], yerr=errors[~resolved], fmt="o",
+                        mfc="white", color=line.get_color(), alpha=0.6, capsize=3, ls="none",
+                        label=f"{label}: window too short (indicative interval)" if (~resolved).any() else None)
+        if not any(quantity in profile.estimates for _, profile in profiles):
+            ax.text(0.5, 0.5, "not measured (see the report)", transform=ax.transAxes, ha="center", color="grey")
         ax.set_ylabel(axis_label)
         ax.grid(alpha=0.3)
     first_zones, first_positions = profiles[0][1].zones, positions[0]
@@ -117,7 +127,9 @@ def plot_massflow_series(path: Path, label: str, record: MassFlowRecord, steady:
     stationarity (dashed) and the mean ± 95 % interval over the window used (band)."""
     fig, ax = plt.subplots(figsize=(9, 4))
     for k, name in enumerate(record.sensor_names):
-        line, = ax.plot(record.time, record.flow[:, k], lw=0.5, alpha=0.35)
+        few = len(record.time) < 200  # a short record: show every sample
+        line, = ax.plot(record.time, record.flow[:, k], lw=1.0 if few else 0.5, alpha=0.9 if few else 0.35,
+                        marker="o" if few else None, ms=3, label=f"{name} samples" if few else None)
         if len(steady.window_starts):
             ax.step(np.append(steady.window_starts, steady.end_time),
                     np.append(steady.window_means[:, k], steady.window_means[-1, k]),

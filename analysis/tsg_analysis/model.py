@@ -13,7 +13,13 @@ from .parameters import RunParameters
 from .profiles import ElementProfile
 from .rtd import RTDComparison, RTDStatistics
 from .run_files import MassFlowRecord, ResidenceRecords, Zones
-from .uncertainty import Estimate
+from .uncertainty import Difference, Estimate
+
+# The quantities every run reports (summary, report, sweep tables), with their units
+MASS_FLOW, RESIDENCE_RECORDS, RESIDENCE_HOLDUP = "mass flow", "residence time (records)", "residence time (hold-up/throughput)"
+SOLID_FRACTION, AXIAL_VELOCITY = "solid fraction", "axial velocity"
+UNITS = {MASS_FLOW: "kg/h", RESIDENCE_RECORDS: "s", RESIDENCE_HOLDUP: "s", SOLID_FRACTION: "-", AXIAL_VELOCITY: "m/s"}
+DOMAIN_FLUX = "domain flux Σ m v_x / L"
 
 
 @dataclass(frozen=True)
@@ -55,6 +61,19 @@ class RunAnalysis:
     notes: list[str] = field(default_factory=list)  # input issues that did not stop a part
     missing: list[tuple[str, str]] = field(default_factory=list)  # (part, reason)
 
+    def estimates(self) -> dict[tuple[str, str], Estimate]:
+        """Every reported mean by (quantity, scope), the keys of the summary and the sweep tables."""
+        found: dict[tuple[str, str], Estimate] = {(MASS_FLOW, name): e for name, e in self.sensor_flows.items()}
+        if self.throughput is not None:
+            found[(MASS_FLOW, DOMAIN_FLUX)] = self.throughput
+        found.update({(RESIDENCE_RECORDS, scope): e for scope, e in self.rtd_means.items()})
+        found.update({(RESIDENCE_HOLDUP, scope): e for scope, e in self.holdup_residence.items()})
+        if self.profile is not None:
+            for quantity, name in ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity")):
+                found.update({(quantity, label): e for label, e in
+                              zip(self.profile.zones.labels, self.profile.estimates.get(name, []))})
+        return found
+
 
 @dataclass
 class Report:
@@ -63,6 +82,8 @@ class Report:
     figures: dict[str, str]
     missing: list[tuple[str, str]]  # report-wide (part, reason)
     settings: Settings
+    differences: list[tuple[str, str, str, str, Difference]] = field(default_factory=list)
+    # (reference, run, quantity, scope, run − reference)
 
     @property
     def not_produced(self) -> list[tuple[str, str, str]]:

@@ -31,6 +31,7 @@ from .rtd import compare_rtds, mean_residence, rtd_statistics
 from .run_files import (ELEMENT_TYPES, RTD_EXIT_REASONS, AnalysisInputError, read_element_statistics, read_massflow,
                         read_residence, read_zones)
 from .snapshot import render_snapshot, screw_dumps_at
+from .uncertainty import difference
 
 
 def _attempt(run: RunAnalysis, part: str, action: Callable[[], None]) -> bool:
@@ -318,6 +319,12 @@ def build_report(run_dirs: list[Path], out_dir: Path, labels: list[str] | None =
         figures.plot_massflow_variants(out_dir / "massflow_variants.png", with_flows)
     else:
         report.missing.append(("mass flow across runs", "no run has mean sensor flows"))
+    if len(runs) > 1:  # every other run against the first: difference ± 95 % interval, significant or not
+        reference = runs[0].estimates()
+        for run in runs[1:]:
+            for key, estimate in run.estimates().items():
+                if key in reference:
+                    report.differences.append((runs[0].label, run.label, *key, difference(reference[key], estimate)))
     with_rtd = [run for run in runs if run.rtd_samples]
     if len(runs) > 1:
         if len(with_rtd) > 1:

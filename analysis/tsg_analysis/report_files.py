@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import Report, RunAnalysis
+from .model import UNITS, Report, RunAnalysis
 from .profiles import QUANTITIES
 from .rtd import AGREEMENT_KS_DISTANCE, RTDStatistics, rtd_histogram
 from .run_files import RTD_EXIT_REASONS
@@ -92,6 +92,8 @@ def write_outputs(report: Report, out_dir: Path) -> None:
         "settings": asdict(report.settings),
         "rtd_agreement_ks_distance": AGREEMENT_KS_DISTANCE,
         "runs": [run_summary(run) for run in report.runs],
+        "differences": [{"reference": ref, "run": label, "quantity": quantity, "unit": UNITS[quantity], "scope": scope,
+                         **d.as_dict()} for ref, label, quantity, scope, d in report.differences],
         "comparisons": [{"reference": ref, "run": label, "scope": c.scope, "ks_distance": c.ks_distance,
                          "relative_mean_difference": c.mean_difference, "agree": c.agree}
                         for ref, label, c in report.comparisons],
@@ -125,6 +127,11 @@ def write_outputs(report: Report, out_dir: Path) -> None:
                 for scope, e in run.rtd_means.items()]
                + [[run.label, "holdup/throughput", scope, *_estimate_row(e)] for run in report.runs
                   for scope, e in run.holdup_residence.items()])
+    _write_csv(out_dir / "differences.csv", ["reference", "run", "quantity", "unit", "scope", "difference",
+                                             "half_width_95", "relative", "significant", "inputs_resolved"],
+               [[ref, label, quantity, UNITS[quantity], scope, _number(d.value), _number(d.half_width),
+                 _number(d.relative), d.significant, d.inputs_resolved]
+                for ref, label, quantity, scope, d in report.differences])
     _write_csv(out_dir / "rtd_comparison.csv",
                ["reference", "run", "scope", "ks_distance", "relative_mean_difference", "agree"],
                [[ref, label, c.scope, c.ks_distance, c.mean_difference, c.agree] for ref, label, c in report.comparisons])
@@ -262,6 +269,18 @@ def comparison_markdown(report: Report) -> str:
          for ref, label, c in report.comparisons])])
 
 
+def differences_markdown(report: Report) -> str:
+    """Each run against the first: difference ± 95 % interval; a number only where it is significant."""
+    if not report.differences:
+        return ""
+    return "\n".join(["## Differences against the reference", "",
+                      "run − reference ± 95 % interval; 'not resolved' when the interval includes zero, "
+                      "'window too short' when either run has too few independent samples.", "", *_table(
+                          ["reference", "run", "quantity", "scope", "difference", "significant"],
+                          [[ref, label, f"{quantity} ({UNITS[quantity]})", scope, d.text(UNITS[quantity]),
+                            "yes" if d.significant else "no"] for ref, label, quantity, scope, d in report.differences])])
+
+
 def not_produced_markdown(report: Report) -> str:
     entries = report.not_produced
     lines = [f"- `{r}` — {part}: {reason}" for r, part, reason in entries] if entries else ["Everything was produced."]
@@ -290,7 +309,7 @@ def markdown(report: Report) -> str:
                   massflow_markdown(run), rtd_markdown(run), profile_markdown(run), dumps_markdown(run)]
         if run.notes:
             lines += ["**Input notes:**", "", *[f"- {n}" for n in run.notes], ""]
-    lines += [comparison_markdown(report)]
+    lines += [differences_markdown(report), comparison_markdown(report)]
     for key, title in (("rtd_comparison", "RTDs of all runs"), ("profiles", "Element profiles of all runs"),
                        ("massflow_variants", "Mean sensor mass flow of all runs")):
         if key in report.figures:

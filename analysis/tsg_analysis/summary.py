@@ -19,6 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from .massflow import sensor_flows, step_clock
+from .model import (AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION,
+                    UNITS)
 from .parameters import RunParameters, read_run_parameters
 from .profiles import domain_throughput, element_estimates, holdup_residence
 from .rtd import mean_residence
@@ -26,9 +28,6 @@ from .run_files import (RTD_EXIT_REASONS, AnalysisInputError, read_element_stati
                         read_zones)
 from .uncertainty import Difference, Estimate, combine_replicas, difference
 
-MASS_FLOW, RESIDENCE_RECORDS, RESIDENCE_HOLDUP = "mass flow", "residence time (records)", "residence time (hold-up/throughput)"
-SOLID_FRACTION, AXIAL_VELOCITY = "solid fraction", "axial velocity"
-UNITS = {MASS_FLOW: "kg/h", RESIDENCE_RECORDS: "s", RESIDENCE_HOLDUP: "s", SOLID_FRACTION: "-", AXIAL_VELOCITY: "m/s"}
 
 
 @dataclass(frozen=True)
@@ -95,7 +94,7 @@ def summarise(run_dir: Path | str) -> RunSummary:
         stats = read_element_statistics(run_dir / "elements.txt")
         times = clock.time(stats.timesteps) if clock is not None else stats.timesteps.astype(float)
         by_zone, used = element_estimates(stats, zones, None, times)
-        summary.rows.append(SummaryRow(MASS_FLOW, "domain flux Σ m v_x / L", domain_throughput(stats, zones, used, times)))
+        summary.rows.append(SummaryRow(MASS_FLOW, DOMAIN_FLUX, domain_throughput(stats, zones, used, times)))
         summary.rows += [SummaryRow(RESIDENCE_HOLDUP, kind, e)
                          for kind, e in holdup_residence(stats, zones, used, times).items()]
         summary.rows += [SummaryRow(SOLID_FRACTION, label, e) for label, e in zip(zones.labels, by_zone["solid_fraction"])]

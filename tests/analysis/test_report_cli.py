@@ -36,7 +36,8 @@ def test_every_figure_and_table_is_written(cli_report):
             assert (out / name).stat().st_size > 10_000, name
     assert sorted(summary["figures"]) == ["massflow_variants", "profiles", "rtd_comparison"]
     for name in ("report.md", "summary.json", "rtd_statistics.csv", "rtd_curves.csv", "profiles.csv",
-                 "massflow.csv", "residence_means.csv", "rtd_comparison.csv", *summary["figures"].values()):
+                 "massflow.csv", "residence_means.csv", "differences.csv", "rtd_comparison.csv",
+                 *summary["figures"].values()):
         assert (out / name).is_file(), name
     text = (out / "report.md").read_text(encoding="utf-8")
     assert "Everything was produced." in text and "![RTD](full_rtd.png)" in text
@@ -64,6 +65,11 @@ def test_numbers_in_the_json(cli_report, full_run):
     assert total["resolved"] and total["half_width"] < 0.05 * total["mean"]
     assert set(periodic["cross_sections"]) == {"conveying", "kneading"}
     assert all(c["agree"] for c in summary["comparisons"])  # same Gamma RTD, different seeds
+    differences = {(d["quantity"], d["scope"]): d for d in summary["differences"]}
+    inlet = differences[("mass flow", "sensor_1")]  # both fixtures feed 14.4 kg/h: no resolved difference
+    assert not inlet["significant"] and inlet["text"].startswith("not resolved")
+    kneading = differences[("solid fraction", "K1")]  # 0.3 in both, exactly: difference 0 ± 0
+    assert kneading["value"] == pytest.approx(0.0, abs=1e-12) and not kneading["significant"]
     assert {c["scope"] for c in summary["comparisons"]} == {"total", "conveying", "kneading"}
 
 
