@@ -228,10 +228,28 @@ def _plane_counter_problem(run: RunAnalysis, frame: ParticleFrame, density: floa
         return "frame times unknown without massflow.txt"
     if "mass" not in frame.columns and density is None:
         return "dumps carry no 'mass' column and the run's rho_p is unknown: give the particle density (--density)"
-    if frame.box is None and run.records is not None and np.any(run.records.exit_reason == "pass"):
+    periodic = _is_periodic(run)
+    if frame.box is None and periodic:
         return "periodic run with VTK dumps: they carry no box, so wraps cannot be told from jumps (use text dumps)"
-    if frame.box is None and run.records is None:
-        return "VTK dumps carry no box and residence.txt is missing: cannot tell whether the domain is periodic"
+    if frame.box is None and periodic is None:
+        return "VTK dumps carry no box, and neither params.json nor residence.txt says whether the domain is periodic"
+    return None
+
+
+def _is_periodic(run: RunAnalysis) -> bool | None:
+    """From the run's record: params.json's case, residence.txt's '# axis:' header, or a periodic pass."""
+    if run.parameters is not None and run.parameters.case is not None:
+        return run.parameters.case == "periodic"
+    path = run.run_dir / "residence.txt"
+    if path.is_file():
+        with open(path, encoding="utf-8", errors="replace") as stream:
+            for line in stream:
+                if not line.startswith("#"):
+                    break
+                if line.startswith("# axis:"):
+                    return line.split(":", 1)[1].split(",")[0].strip() == "periodic"
+    if run.records is not None and np.any(run.records.exit_reason == "pass"):
+        return True
     return None
 
 

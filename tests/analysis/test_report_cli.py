@@ -157,3 +157,24 @@ def test_snapshot_draws_the_screws_in_the_pose_the_run_dumped(tmp_path, periodic
     assert [p.name for p in screw_dumps_at(run_dir, last_step)] == [f"screws_screw1_{last_step}.vtk",
                                                                     f"screws_screw2_{last_step}.vtk"]
     assert screw_dumps_at(tmp_path, last_step) == []
+
+
+def test_periodicity_is_read_from_the_run_not_guessed(tmp_path, full_run):
+    """VTK dumps carry no box: a periodic run (params.json case, or residence.txt's '# axis: periodic'
+    header, as fix residence/time writes it) with no pass yet must not be counted as non-periodic."""
+    run_dir = tmp_path / "periodic-vtk"
+    shutil.copytree(full_run[0], run_dir)
+    params = json.loads((run_dir / "params.json").read_text())
+    (run_dir / "params.json").write_text(json.dumps({**params, "case": "periodic"}))
+    run = build_report([run_dir], tmp_path / "a", settings=Settings(snapshot=False)).runs[0]
+    assert run.plane_flows is None
+    assert "periodic run with VTK dumps" in dict(run.missing)["mass flow through zone boundaries"]
+
+    (run_dir / "params.json").unlink()
+    text = (run_dir / "residence.txt").read_text()
+    (run_dir / "residence.txt").write_text(text.replace("# tsg-dem residence records v1\n",
+                                                        "# tsg-dem residence records v1\n# axis: periodic, passes\n"))
+    (run_dir / "log.lammps").write_text((run_dir / "log.lammps").read_text() + "TSG-PARAMETERS rpm=600 rho_p=1263 "
+                                        "d_mean=0.0004\n")
+    run = build_report([run_dir], tmp_path / "b", settings=Settings(snapshot=False)).runs[0]
+    assert "periodic run with VTK dumps" in dict(run.missing)["mass flow through zone boundaries"]
