@@ -35,6 +35,7 @@ def test_ar1_coverage_and_inefficiency(phi, length):
     assert 0.93 <= fraction <= 0.97, f"coverage {fraction:.3f} of the nominal 95 % interval"
     g_known = (1 + phi) / (1 - phi)
     g_mean = np.mean([e.statistical_inefficiency for e in estimates])
+    print(f"AR(1) φ={phi} n={length}: coverage {fraction:.3f}, mean g {g_mean:.2f} (known {g_known:.2f})")
     assert g_mean == pytest.approx(g_known, rel=0.08)
     assert all(e.resolved for e in estimates)
 
@@ -42,6 +43,9 @@ def test_ar1_coverage_and_inefficiency(phi, length):
 def test_white_noise():
     rng = np.random.default_rng(16)
     fraction, estimates = coverage(rng.normal(10.0, 2.0, (SERIES, 500)), 10.0)
+    print(f"white noise n=500: coverage {fraction:.3f}, mean g "
+          f"{np.mean([e.statistical_inefficiency for e in estimates]):.3f}, "
+          f"drift false alarms {np.mean([bool(e.drift) for e in estimates]):.3f}")
     assert 0.93 <= fraction <= 0.97
     # pymbar sums at least 3 lags (mintime): on 500 white-noise samples g comes out about 1.1, not 1.0
     assert 1.0 <= np.mean([e.statistical_inefficiency for e in estimates]) <= 1.15
@@ -57,6 +61,7 @@ def test_drifting_series_is_flagged_not_stationary():
     ramp = np.linspace(12.0, 8.0, 1000)
     series = ramp + ar1(rng, 200, 1000, 0.5, sigma=3.0 * math.sqrt(1 - 0.25))
     flagged = [estimate_mean(row, detect=False).drift for row in series]
+    print(f"drifting 12 → 8 kg/h: {np.mean(flagged):.3f} flagged")
     assert np.mean(flagged) > 0.95
     assert "drifting" in estimate_mean(series[0], detect=False).text() or not flagged[0]
 
@@ -67,6 +72,7 @@ def test_start_up_is_detected_and_reported_beside_the_chosen_one():
     start_up = 20.0 * np.exp(-times / 0.1)  # decays below the noise after about 0.5 s
     series = 5.0 + start_up + ar1(rng, 1, len(times), 0.5)[0]
     estimate = estimate_mean(series, times, start=0.0)
+    print(f"start-up detected at {estimate.detected_start} s")
     assert estimate.chosen_start == 0.0
     assert 0.25 <= estimate.detected_start <= 1.2
     from_detected = estimate_mean(series, times, start=estimate.detected_start)
@@ -110,6 +116,7 @@ def test_difference_interval_covers_the_true_difference():
     first = [estimate_mean(row, detect=False) for row in ar1(rng, SERIES, 600, 0.7)]
     second = [estimate_mean(row, detect=False) for row in 0.2 + ar1(rng, SERIES, 900, 0.4)]
     covered = [abs(difference(a, b).value - 0.2) <= difference(a, b).half_width for a, b in zip(first, second)]
+    print(f"differences: coverage {np.mean(covered):.3f}")
     assert 0.93 <= np.mean(covered) <= 0.97
 
 
@@ -118,6 +125,7 @@ def test_replicas_combine_with_correct_coverage_and_widen_when_they_disagree():
     replicas = 7.0 + ar1(rng, 3 * SERIES, 800, 0.6)
     estimates = [estimate_mean(row, detect=False) for row in replicas]
     combined = [combine_replicas(estimates[i:i + 3]) for i in range(0, len(estimates), 3)]
+    print(f"replica triples: coverage {np.mean([abs(c.mean - 7.0) <= c.half_width for c in combined]):.3f}")
     assert all(c.replicas == 3 for c in combined)
     assert 0.93 <= np.mean([abs(c.mean - 7.0) <= c.half_width for c in combined]) <= 0.97
     single_width = np.median([e.half_width for e in estimates])
@@ -137,6 +145,7 @@ def test_mass_weighted_ratio_interval():
     for mass, velocity in zip(masses, velocities):
         estimate = estimate_ratio(mass * velocity, mass, detect=False)
         covered.append(abs(estimate.mean - truth) <= estimate.half_width)
+    print(f"mass-weighted ratios: coverage {np.mean(covered):.3f}")
     assert 0.92 <= np.mean(covered) <= 0.98  # 300 series: ±2.5 % is three binomial standard deviations
 
 
@@ -156,6 +165,7 @@ def test_cost_of_intervals_on_a_million_records_and_a_10k_series():
     on_records = estimate_mean(records, detect=False)
     on_series = estimate_mean(series, np.arange(10_000) * 1e-3, start=1.0)
     elapsed = time.perf_counter() - start
+    print(f"cost: {elapsed:.2f} s for 1 M records and a 10 k series with start-up detection")
     assert on_records.resolved and on_series.resolved and on_series.detected_start is not None
     assert elapsed < 5.0, f"{elapsed:.2f} s (measured under whatever load the machine has)"
 
