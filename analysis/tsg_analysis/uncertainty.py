@@ -27,7 +27,7 @@ from types import ModuleType
 import numpy as np
 
 CONFIDENCE = 0.95
-MIN_INDEPENDENT = 10.0  # fewer independent samples: the interval itself is too uncertain to claim a number
+MIN_INDEPENDENT = 20.0  # fewer independent samples: g and so the interval are too uncertain to claim a number
 DRIFT_QUANTILE = 2.5758293035489004  # Φ⁻¹(0.995): halves differ beyond it: drift (1 % false alarms)
 MIN_INDEPENDENT_PER_HALF = 5.0  # the drift test needs this many independent samples in each half
 DETECTION_ORIGINS = 200  # at most this many candidate origins for detect_equilibration (cost)
