@@ -84,7 +84,7 @@ def test_velocities_are_mass_weighted_and_blocks_follow_the_window():
 
 def test_holdup_over_throughput_is_littles_law():
     # constant hold-up 3 g + 1 g moving at 0.1 and 0.05 m/s through 20 + 5 mm: flux (3e-3·0.1 + 1e-3·0.05)/0.025
-    blocks = 40
+    blocks = 200
     rng = np.random.default_rng(5)
     mass = np.tile([3e-3, 1e-3], (blocks, 1)) * (1 + 0.01 * rng.normal(size=(blocks, 2)))
     velocity = np.tile([0.1, 0.05], (blocks, 1)) * (1 + 0.01 * rng.normal(size=(blocks, 2)))
