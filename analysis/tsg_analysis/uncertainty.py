@@ -29,7 +29,7 @@ import numpy as np
 CONFIDENCE = 0.95
 MIN_INDEPENDENT = 20.0  # fewer independent samples: g and so the interval are too uncertain to claim a number
 DRIFT_QUANTILE = 2.5758293035489004  # Φ⁻¹(0.995): halves differ beyond it: drift (1 % false alarms)
-MIN_INDEPENDENT_PER_HALF = 5.0  # the drift test needs this many independent samples in each half
+MIN_INDEPENDENT_PER_HALF = 10.0  # the drift test needs this many independent samples in each half
 DETECTION_ORIGINS = 200  # at most this many candidate origins for detect_equilibration (cost)
 
 

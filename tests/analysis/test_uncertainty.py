@@ -189,3 +189,12 @@ def test_short_correlated_records_rarely_claim_a_wrong_number(phi, length, at_mo
     print(f"AR(1) φ={phi} n={length} (true independent samples {length * (1 - phi) / (1 + phi):.1f}): "
           f"{claimed:.1%} claimed, {wrong:.1%} of all series a wrong claim")
     assert wrong <= at_most
+
+
+def test_drift_false_alarms_on_stationary_correlated_series():
+    rng = np.random.default_rng(26)
+    estimates = [estimate_mean(row, detect=False) for row in ar1(rng, SERIES, 200, 0.8)]
+    false_alarms = np.mean([bool(e.drift) for e in estimates])
+    print(f"AR(1) φ=0.8 n=200: drift tested on {np.mean([e.drift is not None for e in estimates]):.1%}, "
+          f"false alarms {false_alarms:.1%} (nominal 1 %)")
+    assert false_alarms <= 0.04
