@@ -3,6 +3,7 @@
     python -m tsg_analysis report <run_dir> [<run_dir> ...] --out <dir>   report.md, figures, JSON, CSV
     python -m tsg_analysis summary <run_dir>                                 the run's summary table
     python -m tsg_analysis compare <reference_dir> <run_dir> [...]          differences ± 95 % interval
+                                   (replicas of one setting comma-separated: a,b,c)
 
 A user mistake gives one line naming the option, the value and what is allowed, and exit status 2
 (an unusable input file: exit status 1); --debug shows the traceback instead.
@@ -98,15 +99,23 @@ def _summary(args: argparse.Namespace) -> int:
     return 0
 
 
+def _replicas(argument: str) -> list[Path]:
+    """'a,b,c': replica runs (differing only in the seed) combined into one entry."""
+    run_dirs = [Path(part) for part in argument.split(",") if part]
+    for run_dir in run_dirs or [Path(argument)]:
+        if not run_dir.is_dir():
+            raise UsageError(f"run_dir {run_dir}: no such directory")
+    return run_dirs
+
+
 def _compare(args: argparse.Namespace) -> int:
     from .summary import compare_runs, sweep_markdown, write_sweep_csv
 
-    for run_dir in [args.reference, *args.run_dirs]:
-        if not run_dir.is_dir():
-            raise UsageError(f"run_dir {run_dir}: no such directory")
+    reference = _replicas(args.reference)
+    variants = {argument: _replicas(argument) for argument in args.run_dirs}
     if args.csv is not None and args.csv.is_dir():
         raise UsageError(f"--csv {args.csv}: is a directory; give a file name")
-    rows = compare_runs([args.reference], {str(d): [d] for d in args.run_dirs})
+    rows = compare_runs(reference, variants)
     print(sweep_markdown(rows), end="")
     if args.csv is not None:
         write_sweep_csv(rows, args.csv)
@@ -141,8 +150,9 @@ def parser() -> argparse.ArgumentParser:
     summary.add_argument("run_dir", type=Path)
     summary.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     compare = commands.add_parser("compare", help="differences of runs against a reference ± 95 % interval")
-    compare.add_argument("reference", type=Path)
-    compare.add_argument("run_dirs", nargs="+", type=Path, metavar="run_dir")
+    compare.add_argument("reference", help="reference run directory; replicas comma-separated (a,b,c)")
+    compare.add_argument("run_dirs", nargs="+", metavar="run_dir",
+                         help="run directories to compare; replicas of one variant comma-separated")
     compare.add_argument("--csv", type=Path, help="also write the table as CSV")
     compare.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     return main_parser

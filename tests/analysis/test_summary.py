@@ -78,3 +78,19 @@ def test_sweep_table_replicas_and_significance(tmp_path, periodic_run):
     write_sweep_csv(rows, tmp_path / "sweep.csv")
     data = np.genfromtxt(tmp_path / "sweep.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
     assert len(data) == len(rows)
+
+
+def test_compare_command_line_with_replicas(tmp_path, periodic_run, full_run):
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    analysis = Path(__file__).resolve().parents[2] / "analysis"
+    csv_path = tmp_path / "sweep.csv"
+    proc = subprocess.run([sys.executable, "-m", "tsg_analysis", "compare", str(periodic_run[0]),
+                           f"{periodic_run[0]},{full_run[0]}", "--csv", str(csv_path)],
+                          capture_output=True, encoding="utf-8", env=dict(os.environ, PYTHONPATH=str(analysis)))
+    assert proc.returncode == 0, proc.stderr
+    assert "| variant | quantity |" in proc.stdout and f"{periodic_run[0]},{full_run[0]}" in proc.stdout
+    assert csv_path.is_file() and "Traceback" not in proc.stderr
