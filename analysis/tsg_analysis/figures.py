@@ -163,6 +163,7 @@ def plot_massflow_variants(path: Path, rows: list[tuple[str, dict[str, Estimate]
         ax.errorbar([x for x, _ in points], [e.mean for _, e in points], yerr=[e.half_width for _, e in points],
                     fmt="o", capsize=3, label=name, mfc="none" if not all(e.resolved for _, e in points) else None)
     ax.set_xticks(range(len(rows)), [label for label, _ in rows], rotation=30, ha="right")
+    ax.set_xlim(-0.5, len(rows) - 0.5)
     ax.set_ylabel("mean mass flow (kg/h)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
