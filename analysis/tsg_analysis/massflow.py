@@ -71,6 +71,13 @@ def _row_durations(time: np.ndarray) -> np.ndarray:
     return np.diff(time, prepend=time[0] - (time[1] - time[0]) if len(time) > 1 else time[0])
 
 
+def _span(record: MassFlowRecord) -> float:
+    """Seconds the record covers (its first row covers an interval before its time)."""
+    if len(record.time) == 0:
+        return 0.0
+    return float(record.time[-1] - record.time[0] + _row_durations(record.time)[0])
+
+
 def window_means(record: MassFlowRecord, window: float) -> tuple[np.ndarray, np.ndarray]:
     """Start times and time-weighted mean flows of consecutive windows ending at the record's end."""
     if len(record.time) < 2:
@@ -103,7 +110,8 @@ def decide_steady_state(record: MassFlowRecord, window: float,
                        "massflow.txt has a single sensor: steady state needs an inlet and an outlet sensor")
     if len(starts) < min_windows:
         return verdict(False, None, np.zeros(len(starts), bool),
-                       f"the mass-flow record ({end:.3g} s) is shorter than {min_windows} windows of {window:g} s")
+                       f"the mass-flow record ({_span(record):.3g} s, to t = {end:.3g} s) is shorter than "
+                       f"{min_windows} windows of {window:.4g} s")
     inlet, outlet = means[:, 0], means[:, -1]
     with np.errstate(invalid="ignore"):
         agree = (inlet > 0) & (np.abs(outlet - inlet) <= tolerance * inlet)
