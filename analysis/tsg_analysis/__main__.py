@@ -174,6 +174,11 @@ def main(argv: list[str] | None = None) -> int:
             raise
         print(f"error: {err}", file=sys.stderr)
         return INPUT_ERROR
+    except OSError as err:  # e.g. an output directory that is not writable
+        if debug:
+            raise
+        print(f"error: {err.filename or ''}: {err.strerror or err}", file=sys.stderr)
+        return INPUT_ERROR
 
 
 if __name__ == "__main__":

@@ -29,6 +29,11 @@ def _existing_file(tmp: Path) -> None:
     (tmp / "existing.md").write_text("an earlier report the user wants to keep\n")
 
 
+def _report_md_is_a_directory(tmp: Path) -> None:
+    (tmp / "out" / "report.md").mkdir(parents=True)  # unwritable even for root, unlike a chmod
+    (tmp / "out" / "report.md" / "notes.txt").write_text("the user's notes\n")
+
+
 def report(*words: str) -> list[str]:
     return [*REPORT, *words]
 
@@ -108,6 +113,10 @@ CASES: list[BadInput] = [
              command=report(RUN, "--out", "{tmp}/out"),
              files={**run_dir(None), "run/log.lammps": "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0)\n"},
              accepted=True, env=ENV),
+    BadInput("analysis.report.output-file-not-writable", ("{tmp}/out/report.md", "Is a directory"),
+             why="a report file that cannot be written must say which, not end in a traceback",
+             command=report(RUN, "--out", "{tmp}/out", "--no-snapshot"), files=run_dir(),
+             prepare=_report_md_is_a_directory, intact=("out/report.md/notes.txt",), env=ENV),
     BadInput("analysis.summary.run-dir-missing", ("run_dir", "{tmp}/nowhere", "no such directory"),
              why="a misspelt run directory",
              command=["{python}", "-m", "tsg_analysis", "summary", "{tmp}/nowhere"], env=ENV),
