@@ -17,6 +17,7 @@ import numpy as np
 from .run_files import AnalysisInputError
 
 DUMP_PATTERNS = ("particles_*.txt", "particles_*.vtk")
+BOUNDING_BOX = "boundingBox"  # dump custom/vtk also writes particles_boundingBox_<step>.vtk: the box, no particles
 _STEP_IN_NAME = re.compile(r"(\d+)(?!.*\d)")
 _INTEGER_COLUMNS = ("id", "type")
 
@@ -61,7 +62,8 @@ def find_dump_files(run_dir: Path | str) -> tuple[list[Path], list[str]]:
     """Dump files of a run in step order, and notes. Text dumps win if both kinds are present
     (they carry the box, which periodic mass-flow counting needs)."""
     dumps = Path(run_dir) / "dumps"
-    found = {pattern: sorted(dumps.glob(pattern), key=step_from_name) for pattern in DUMP_PATTERNS}
+    found = {pattern: sorted((p for p in dumps.glob(pattern) if BOUNDING_BOX not in p.name), key=step_from_name)
+             for pattern in DUMP_PATTERNS}
     text, vtk = found[DUMP_PATTERNS[0]], found[DUMP_PATTERNS[1]]
     if text and vtk:
         return text, [f"dumps/ holds text and VTK dumps: using the {len(text)} text dumps"]

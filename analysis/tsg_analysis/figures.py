@@ -15,6 +15,7 @@ from .profiles import QUANTITIES, ElementProfile, aligned_positions  # noqa: E40
 from .rtd import (RTDComparison, RTDStatistics, cumulative_distribution, histogram_edges,  # noqa: E402
                   open_dispersion_density, rtd_histogram, tanks_in_series_density)
 from .run_files import MassFlowRecord, Zones  # noqa: E402
+from .uncertainty import Estimate  # noqa: E402
 
 
 def _save(fig: plt.Figure, path: Path) -> Path:
@@ -79,7 +80,8 @@ def _nothing_to_plot(path: Path, message: str) -> Path:
 
 def plot_profiles(path: Path, profiles: list[tuple[str, ElementProfile]]) -> Path:
     """Solid fraction, residence time, velocity magnitude and longitudinal velocity per element
-    for one run or a family of runs (seed Figs. 9, 10, 12–16)."""
+    for one run or a family of runs (seed Figs. 9, 10, 12–16); bars: 95 % intervals; hollow points:
+    too few independent samples, the bar is indicative only."""
     if not profiles:
         return _nothing_to_plot(path, "no run has element profiles (see the report's 'Not produced')")
     positions = aligned_positions([profile.zones for _, profile in profiles])
@@ -90,7 +92,19 @@ def plot_profiles(path: Path, profiles: list[tuple[str, ElementProfile]]) -> Pat
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
     for ax, (quantity, axis_label) in zip(axes.flat, QUANTITIES.items()):
         for (label, profile), where in zip(profiles, positions):
-            ax.plot(where, profile.values[quantity], "o-", label=label)
+            estimates = profile.estimates.get(quantity)
+            if estimates is None:
+                continue
+            resolved = np.array([e.resolved for e in estimates])
+            errors = np.array([e.half_width for e in estimates])
+            line, = ax.plot(where, profile.values[quantity], "-", label=label)
+            ax.errorbar(where[resolved], profile.values[quantity][resolved], yerr=errors[resolved], fmt="o",
+                        color=line.get_color(), capsize=3)
+            ax.errorbar(where[~resolved], profile.values[quantity][~resolved], yerr=errors[~resolved], fmt="o",
+                        mfc="white", color=line.get_color(), alpha=0.6, capsize=3, ls="none",
+                        label=f"{label}: window too short (indicative interval)" if (~resolved).any() else None)
+        if not any(quantity in profile.estimates for _, profile in profiles):
+            ax.text(0.5, 0.5, "not measured (see the report)", transform=ax.transAxes, ha="center", color="grey")
         ax.set_ylabel(axis_label)
         ax.grid(alpha=0.3)
     first_zones, first_positions = profiles[0][1].zones, positions[0]
@@ -107,14 +121,26 @@ def plot_profiles(path: Path, profiles: list[tuple[str, ElementProfile]]) -> Pat
     return _save(fig, path)
 
 
-def plot_massflow_series(path: Path, label: str, record: MassFlowRecord, steady: SteadyState) -> Path:
+def plot_massflow_series(path: Path, label: str, record: MassFlowRecord, steady: SteadyState,
+                         flows: dict[str, Estimate] | None = None) -> Path:
+    """Sensor traces, window means, the steady window and, per sensor, the detected start of
+    stationarity (dashed) and the mean ± 95 % interval over the window used (band)."""
     fig, ax = plt.subplots(figsize=(9, 4))
     for k, name in enumerate(record.sensor_names):
-        line, = ax.plot(record.time, record.flow[:, k], lw=0.5, alpha=0.35)
+        few = len(record.time) < 200  # a short record: show every sample
+        line, = ax.plot(record.time, record.flow[:, k], lw=1.0 if few else 0.5, alpha=0.9 if few else 0.35,
+                        marker="o" if few else None, ms=3, label=f"{name} samples" if few else None)
         if len(steady.window_starts):
             ax.step(np.append(steady.window_starts, steady.end_time),
                     np.append(steady.window_means[:, k], steady.window_means[-1, k]),
                     where="post", color=line.get_color(), lw=2, label=f"{name} ({steady.window:g} s means)")
+        estimate = (flows or {}).get(name)
+        if estimate is not None and np.isfinite(estimate.half_width):
+            ax.axhspan(estimate.mean - estimate.half_width, estimate.mean + estimate.half_width,
+                       color=line.get_color(), alpha=0.12, label=f"{name}: {estimate.text('kg/h')}")
+        if estimate is not None and estimate.detected_start is not None:
+            ax.axvline(estimate.detected_start, color=line.get_color(), ls="--", lw=1,
+                       label=f"{name} stationary from {estimate.detected_start:.3g} s (detected)")
     if steady.reached:
         ax.axvspan(steady.start_time, steady.end_time, color="tab:green", alpha=0.1, label="steady window")
     ax.set_title(f"{label}: {'steady' if steady.reached else 'NOT steady'}", fontsize=10)
@@ -125,19 +151,19 @@ def plot_massflow_series(path: Path, label: str, record: MassFlowRecord, steady:
     return _save(fig, path)
 
 
-def plot_massflow_variants(path: Path, rows: list[tuple[str, tuple[str, ...], np.ndarray, np.ndarray]]) -> Path:
-    """Mean sensor flows over the steady window for each run (seed Fig. 18); bars: fluctuation."""
+def plot_massflow_variants(path: Path, rows: list[tuple[str, dict[str, Estimate]]]) -> Path:
+    """Mean sensor flows for each run (seed Fig. 18); bars: 95 % intervals (hollow: window too short)."""
     if not rows:
-        return _nothing_to_plot(path, "no run has steady sensor flows (see the report's 'Not produced')")
+        return _nothing_to_plot(path, "no run has sensor flows (see the report's 'Not produced')")
     fig, ax = plt.subplots(figsize=(max(5.0, 1.2 * len(rows) + 2), 4))
-    most = max(len(names) for _, names, _, _ in rows)
-    for k in range(most):
-        offset = (k - (most - 1) / 2) * 0.12
-        xs = [i + offset for i, (_, names, _, _) in enumerate(rows) if k < len(names)]
-        means = [m[k] for _, names, m, _ in rows if k < len(names)]
-        spreads = [s[k] for _, names, _, s in rows if k < len(names)]
-        ax.errorbar(xs, means, yerr=spreads, fmt="o", capsize=3, label=f"sensor_{k + 1}")
-    ax.set_xticks(range(len(rows)), [label for label, *_ in rows], rotation=30, ha="right")
+    names = list(dict.fromkeys(name for _, flows in rows for name in flows))
+    for k, name in enumerate(names):
+        offset = (k - (len(names) - 1) / 2) * 0.12
+        points = [(i + offset, flows[name]) for i, (_, flows) in enumerate(rows) if name in flows]
+        ax.errorbar([x for x, _ in points], [e.mean for _, e in points], yerr=[e.half_width for _, e in points],
+                    fmt="o", capsize=3, label=name, mfc="none" if not all(e.resolved for _, e in points) else None)
+    ax.set_xticks(range(len(rows)), [label for label, _ in rows], rotation=30, ha="right")
+    ax.set_xlim(-0.5, len(rows) - 0.5)
     ax.set_ylabel("mean mass flow (kg/h)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)

@@ -15,9 +15,9 @@ import numpy as np
 
 from .dumps import ParticleFrame
 from .run_files import AnalysisInputError, MassFlowRecord
+from .uncertainty import Estimate, estimate_mean
 
 STEADY_TOLERANCE = 0.05  # relative inlet/outlet difference
-STEADY_WINDOW_S = 0.1  # one screw revolution at 600 rpm: sensors fluctuate with the flight passage
 STEADY_MIN_WINDOWS = 2
 SECONDS_PER_HOUR = 3600.0
 
@@ -71,6 +71,13 @@ def _row_durations(time: np.ndarray) -> np.ndarray:
     return np.diff(time, prepend=time[0] - (time[1] - time[0]) if len(time) > 1 else time[0])
 
 
+def _span(record: MassFlowRecord) -> float:
+    """Seconds the record covers (its first row covers an interval before its time)."""
+    if len(record.time) == 0:
+        return 0.0
+    return float(record.time[-1] - record.time[0] + _row_durations(record.time)[0])
+
+
 def window_means(record: MassFlowRecord, window: float) -> tuple[np.ndarray, np.ndarray]:
     """Start times and time-weighted mean flows of consecutive windows ending at the record's end."""
     if len(record.time) < 2:
@@ -90,7 +97,7 @@ def window_means(record: MassFlowRecord, window: float) -> tuple[np.ndarray, np.
         return starts, means / weights[:, None]
 
 
-def decide_steady_state(record: MassFlowRecord, window: float = STEADY_WINDOW_S,
+def decide_steady_state(record: MassFlowRecord, window: float,
                         tolerance: float = STEADY_TOLERANCE, min_windows: int = STEADY_MIN_WINDOWS) -> SteadyState:
     starts, means = window_means(record, window)
     end = float(record.time[-1]) if len(record.time) else 0.0
@@ -103,7 +110,8 @@ def decide_steady_state(record: MassFlowRecord, window: float = STEADY_WINDOW_S,
                        "massflow.txt has a single sensor: steady state needs an inlet and an outlet sensor")
     if len(starts) < min_windows:
         return verdict(False, None, np.zeros(len(starts), bool),
-                       f"the mass-flow record ({end:.3g} s) is shorter than {min_windows} windows of {window:g} s")
+                       f"the mass-flow record ({_span(record):.3g} s, to t = {end:.3g} s) is shorter than "
+                       f"{min_windows} windows of {window:.4g} s")
     inlet, outlet = means[:, 0], means[:, -1]
     with np.errstate(invalid="ignore"):
         agree = (inlet > 0) & (np.abs(outlet - inlet) <= tolerance * inlet)
@@ -123,18 +131,20 @@ def decide_steady_state(record: MassFlowRecord, window: float = STEADY_WINDOW_S,
                    f"within {tolerance:.0%} up to the end)")
 
 
-def mean_flows(record: MassFlowRecord, start: float, end: float) -> tuple[np.ndarray, np.ndarray]:
-    """Time-weighted mean flow (kg/h) of each sensor over the rows whose interval middle lies in
-    (start, end], and the standard deviation of the per-row flows as a measure of their fluctuation."""
+def sensor_flows(record: MassFlowRecord, start: float | None, end: float | None = None) -> dict[str, Estimate]:
+    """Mean flow (kg/h) of each sensor ± 95 % interval over the rows whose interval middle lies in
+    (start, end] (all rows when start is None); rows are equal windows of the fix, so each counts once.
+    Start-up detection runs on the whole record and is reported beside `start`."""
     durations = _row_durations(record.time)
     middle = record.time - 0.5 * durations
-    rows = (middle > start) & (middle <= end)
+    low = -np.inf if start is None else start
+    high = np.inf if end is None else end
+    rows = (middle > low) & (middle <= high)
     if not rows.any():
-        raise AnalysisInputError(f"massflow.txt has no rows between {start:.4g} s and {end:.4g} s")
-    weights = durations[rows]
-    mean = weights @ record.flow[rows] / weights.sum()
-    spread = np.sqrt(weights @ (record.flow[rows] - mean) ** 2 / weights.sum())
-    return mean, spread
+        raise AnalysisInputError(f"massflow.txt has no rows between {low:.4g} s and {high:.4g} s")
+    chosen = float(middle[rows][0])
+    return {name: estimate_mean(record.flow[:, k][middle <= high], middle[middle <= high], chosen)
+            for k, name in enumerate(record.sensor_names)}
 
 
 def particle_masses(frame: ParticleFrame, density: float | None) -> np.ndarray:

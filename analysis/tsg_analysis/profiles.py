@@ -4,7 +4,8 @@ velocity and residence time of every screw element, averaged over the steady win
 elements.txt blocks are already time averages over their output interval; a block enters when its
 whole interval lies inside the window. Solid fraction is averaged over blocks; the velocities are
 weighted by each block's particle mass in the zone (compute element/stats weights by mass within a
-block too), so that nearly empty blocks do not weigh like full ones.
+block too), so that nearly empty blocks do not weigh like full ones. This is the one mass-weighted
+per-element average of the project; every value comes with its 95 % interval (uncertainty.py).
 """
 from __future__ import annotations
 
@@ -12,7 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .massflow import SECONDS_PER_HOUR
 from .run_files import AnalysisInputError, ElementStatistics, ResidenceRecords, Zones
+from .uncertainty import Estimate, estimate_mean, estimate_ratio
 
 QUANTITIES = {
     "solid_fraction": "solid fraction (-)",
@@ -28,6 +31,7 @@ class ElementProfile:
     values: dict[str, np.ndarray]  # quantity in QUANTITIES -> (zones,), NaN where not measured
     blocks: int  # elements.txt blocks averaged
     records: int  # residence records averaged
+    estimates: dict[str, list[Estimate]]  # quantity -> per zone mean ± 95 % interval (measured quantities only)
 
 
 def block_mask(stats: ElementStatistics, first_step: float | None) -> np.ndarray:
@@ -38,42 +42,45 @@ def block_mask(stats: ElementStatistics, first_step: float | None) -> np.ndarray
     return stats.timesteps - interval >= first_step - 0.5
 
 
-def average_element_statistics(stats: ElementStatistics, zones: Zones,
-                               first_step: float | None) -> tuple[dict[str, np.ndarray], int]:
+def element_estimates(stats: ElementStatistics, zones: Zones, first_step: float | None,
+                      times: np.ndarray | None = None) -> tuple[dict[str, list[Estimate]], np.ndarray]:
+    """Per zone: solid fraction (block mean) and mass-weighted velocities Σ m v / Σ m over the blocks
+    inside the window, each ± 95 % interval; `times` (s, one per block) for start-up detection.
+    Returns the estimates and the mask of blocks used."""
     if stats.values.shape[1] != len(zones):
         raise AnalysisInputError(f"elements.txt has {stats.values.shape[1]} rows per block but zones.txt "
                                  f"{len(zones)} zones")
     used = block_mask(stats, first_step)
     if not used.any():
         raise AnalysisInputError("elements.txt has no block inside the steady window")
+    block_times = (np.asarray(times, dtype=np.float64) if times is not None else stats.timesteps.astype(float))[used]
     mass = stats.column("mass")[used]
-    weight = mass.sum(axis=0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        averages = {
-            "solid_fraction": stats.column("solid_fraction")[used].mean(axis=0),
-            "mean_speed": np.where(weight > 0, (mass * stats.column("mean_speed")[used]).sum(axis=0) / weight, np.nan),
-            "mean_axial_velocity": np.where(
-                weight > 0, (mass * stats.column("mean_axial_velocity")[used]).sum(axis=0) / weight, np.nan),
-        }
-    return averages, int(used.sum())
+    estimates: dict[str, list[Estimate]] = {
+        "solid_fraction": [estimate_mean(column, block_times, float(block_times[0]))
+                           for column in stats.column("solid_fraction")[used].T]}
+    for name in ("mean_speed", "mean_axial_velocity"):
+        velocity = stats.column(name)[used]
+        estimates[name] = [estimate_ratio(m * v, m, block_times, float(block_times[0]))
+                           for m, v in zip(mass.T, velocity.T)]
+    return estimates, used
 
 
-def zone_residence_times(records: ResidenceRecords, zones: Zones, selected: np.ndarray) -> np.ndarray:
-    """Mean time (s) the selected particles spent in each zone."""
+def zone_residence_times(records: ResidenceRecords, zones: Zones, selected: np.ndarray) -> list[Estimate]:
+    """Mean time (s) the selected particles spent in each zone ± 95 % interval (records in exit order)."""
     if records.time_by_zone.shape[1] != len(zones):
         raise AnalysisInputError(f"residence.txt has {records.time_by_zone.shape[1]} zone columns but zones.txt "
                                  f"{len(zones)} zones")
     if not selected.any():
         raise AnalysisInputError("no residence records to average per zone")
-    return records.time_by_zone[selected].mean(axis=0)
+    order = np.argsort(records.exit_time[selected], kind="stable")
+    return [estimate_mean(column[order], detect=False) for column in records.time_by_zone[selected].T]
 
 
-def element_profile(zones: Zones, averages: dict[str, np.ndarray] | None, blocks: int,
-                    residence: np.ndarray | None, records: int) -> ElementProfile:
-    missing = np.full(len(zones), np.nan)
-    values = {name: (averages or {}).get(name, missing) for name in QUANTITIES if name != "residence_time"}
-    values["residence_time"] = missing if residence is None else residence
-    return ElementProfile(zones, {name: values[name] for name in QUANTITIES}, blocks, records)
+def element_profile(zones: Zones, estimates: dict[str, list[Estimate]], blocks: int, records: int) -> ElementProfile:
+    """`estimates`: quantity -> one Estimate per zone, for the quantities that were measured."""
+    values = {name: np.array([e.mean for e in estimates[name]]) if name in estimates else np.full(len(zones), np.nan)
+              for name in QUANTITIES}
+    return ElementProfile(zones, values, blocks, records, estimates)
 
 
 def aligned_positions(zone_sets: list[Zones]) -> list[np.ndarray]:
@@ -83,3 +90,29 @@ def aligned_positions(zone_sets: list[Zones]) -> list[np.ndarray]:
     anchors = [zones.kind.index("kneading") if "kneading" in zones.kind else 0 for zones in zone_sets]
     shift = max(anchors)
     return [np.arange(len(zones)) + shift - anchor for zones, anchor in zip(zone_sets, anchors)]
+
+
+def _domain_flux(stats: ElementStatistics, zones: Zones, used: np.ndarray) -> np.ndarray:
+    """Σ_e m_e v_x,e / L per block, kg/s: the mass flow averaged over every plane of the zones."""
+    length = float(np.sum(zones.x_end - zones.x_start))
+    return (stats.column("mass")[used] * stats.column("mean_axial_velocity")[used]).sum(axis=1) / length
+
+
+def domain_throughput(stats: ElementStatistics, zones: Zones, used: np.ndarray, times: np.ndarray) -> Estimate:
+    """Mass flow through the domain, kg/h: the flux averaged over every plane (converges faster
+    than a single sensor plane), ± 95 % interval."""
+    return estimate_mean(_domain_flux(stats, zones, used) * SECONDS_PER_HOUR, times[used], float(times[used][0]))
+
+
+def holdup_residence(stats: ElementStatistics, zones: Zones, used: np.ndarray,
+                     times: np.ndarray) -> dict[str, Estimate]:
+    """Residence time per element type from hold-up over throughput (Little's law at steady state):
+    τ_type = ⟨Σ_{e ∈ type} m_e⟩ / ⟨Q⟩ with Q = Σ_e m_e v_x,e / L the domain flux, s, ± 95 % interval
+    (ratio estimator). Not available (NaN) when the mean flux is not forward."""
+    mass = stats.column("mass")[used]
+    flux = _domain_flux(stats, zones, used)
+    kinds = np.asarray(zones.kind)
+    holdups = {kind: mass[:, kinds == kind].sum(axis=1) for kind in zones.types_present}
+    holdups["total"] = mass.sum(axis=1)
+    block_times = times[used]
+    return {kind: estimate_ratio(holdup, flux, block_times, float(block_times[0])) for kind, holdup in holdups.items()}

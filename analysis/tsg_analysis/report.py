@@ -3,69 +3,35 @@ report_files.py for report.md, summary.json and the CSV tables.
 
 Every part is produced independently: a part whose input is missing or unusable is listed under
 "Not produced" with the reason, and the rest of the report is still written. Parts that average
-over time (RTDs, element profiles, cross-sections, mean sensor flows, flows from dumps) need the
-steady window decided from massflow.txt; `allow_transient` averages over the whole record instead
-and marks those parts as transient.
+over time (RTDs, element profiles, cross-sections, mean sensor flows, flows from dumps) use the
+steady window decided from massflow.txt; a run that is not (known to be) steady is averaged over
+its whole record and marked transient (Settings.require_steady: produce nothing instead). Every
+mean carries its 95 % interval (uncertainty.py). The run's parameters (rpm, density) come from the
+run directory (parameters.py), the screw pose from the screw dumps the run wrote.
 """
 from __future__ import annotations
 
 import math
 import re
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from . import figures
-from .cross_section import DEFAULT_BIN_SIZE, SolidFractionAccumulator, SolidFractionMap
+from .cross_section import SolidFractionAccumulator
 from .dumps import ParticleFrame, find_dump_files, iter_frames, read_dump_file, step_from_name
 from .liggghts_log import parse_errors, parse_thermo, parse_warnings
-from .massflow import (STEADY_TOLERANCE, STEADY_WINDOW_S, PlaneFlowCounter, PlaneFlows, StepClock, SteadyState,
-                       decide_steady_state, mean_flows, step_clock)
-from .profiles import ElementProfile, average_element_statistics, element_profile, zone_residence_times
+from .massflow import PlaneFlowCounter, decide_steady_state, sensor_flows, step_clock
+from .model import Report, RunAnalysis, Settings
+from .parameters import read_run_parameters
+from .profiles import domain_throughput, element_estimates, element_profile, holdup_residence, zone_residence_times
 from .report_files import write_outputs
-from .rtd import RTDComparison, RTDStatistics, compare_rtds, rtd_statistics
-from .run_files import (ELEMENT_TYPES, RTD_EXIT_REASONS, AnalysisInputError, MassFlowRecord, ResidenceRecords,
-                        Zones, read_element_statistics, read_massflow, read_residence, read_zones)
-from .snapshot import render_snapshot
-
-
-@dataclass(frozen=True)
-class Settings:
-    steady_window: float = STEADY_WINDOW_S
-    steady_tolerance: float = STEADY_TOLERANCE
-    allow_transient: bool = False
-    bin_size: float = DEFAULT_BIN_SIZE  # m, cross-section maps
-    screw_rpm: float | None = 600.0  # turns the screw meshes in the snapshot; None: draw them as built
-    particle_density: float | None = None  # kg/m^3, for dumps without a mass column
-    snapshot: bool = True
-
-
-@dataclass
-class RunAnalysis:
-    """What could be worked out for one run directory."""
-
-    label: str
-    run_dir: Path
-    out_dir: Path
-    zones: Zones | None = None
-    records: ResidenceRecords | None = None
-    massflow: MassFlowRecord | None = None
-    steady: SteadyState | None = None
-    clock: StepClock | None = None
-    window: tuple[float, float] | None = None  # s; (-inf, inf) when transient
-    transient: bool = False
-    rtd_samples: dict[str, np.ndarray] = field(default_factory=dict)
-    rtd_stats: dict[str, RTDStatistics] = field(default_factory=dict)
-    profile: ElementProfile | None = None
-    sensor_means: tuple[np.ndarray, np.ndarray] | None = None
-    maps: dict[str, SolidFractionMap] = field(default_factory=dict)
-    plane_flows: PlaneFlows | None = None
-    log_summary: dict | None = None
-    figures: dict[str, str] = field(default_factory=dict)  # part -> file name
-    notes: list[str] = field(default_factory=list)  # input issues that did not stop a part
-    missing: list[tuple[str, str]] = field(default_factory=list)  # (part, reason)
+from .rtd import compare_rtds, mean_residence, rtd_statistics
+from .run_files import (ELEMENT_TYPES, RTD_EXIT_REASONS, AnalysisInputError, read_element_statistics, read_massflow,
+                        read_residence, read_zones)
+from .snapshot import render_snapshot, screw_dumps_at
+from .uncertainty import difference
 
 
 def _attempt(run: RunAnalysis, part: str, action: Callable[[], None]) -> bool:
@@ -110,14 +76,23 @@ def _read_log(run: RunAnalysis) -> None:
     }
 
 
+def _steady_window(run: RunAnalysis, settings: Settings) -> float:
+    if settings.steady_window is not None:
+        return settings.steady_window
+    if run.parameters is None:
+        raise AnalysisInputError("the steady-state window is one screw revolution, but the run's rpm is unknown "
+                                 "(no usable params.json or TSG-PARAMETERS line; give --steady-window)")
+    return run.parameters.revolution_s
+
+
 def _decide_window(run: RunAnalysis, settings: Settings) -> None:
     run.massflow = read_massflow(run.run_dir / "massflow.txt")
     run.notes.extend(run.massflow.issues)
     run.clock = step_clock(run.massflow)
-    run.steady = decide_steady_state(run.massflow, settings.steady_window, settings.steady_tolerance)
+    run.steady = decide_steady_state(run.massflow, _steady_window(run, settings), settings.steady_tolerance)
     if run.steady.reached:
         run.window = (run.steady.start_time, run.steady.end_time)
-    elif settings.allow_transient:
+    elif not settings.require_steady:
         run.window, run.transient = (-math.inf, math.inf), True
 
 
@@ -126,7 +101,7 @@ def _require_window(run: RunAnalysis) -> tuple[float, float]:
         return run.window
     reason = "the run never reached steady state" if run.steady is not None else \
         "steady state is unknown without a usable massflow.txt"
-    raise AnalysisInputError(f"no steady window: {reason} (--allow-transient averages over the whole record)")
+    raise AnalysisInputError(f"no steady window: {reason} (without --require-steady the whole record is averaged)")
 
 
 def _rtd_selection(run: RunAnalysis) -> np.ndarray:
@@ -142,6 +117,11 @@ def _analyse_rtd(run: RunAnalysis) -> None:
     types = run.zones.types_present if run.zones is not None else [
         t for t in ELEMENT_TYPES if np.any(run.records.time_by_type[t] > 0)]
     samples.update({t: run.records.time_by_type[t][selected] for t in types})
+    if not selected.any():
+        raise AnalysisInputError("no complete residence record (outlet or pass) inside the averaging window: "
+                                 "the window is shorter than a pass")
+    exits = run.records.exit_time[selected]
+    run.rtd_means = {scope: mean_residence(times, exits) for scope, times in samples.items()}
     run.rtd_stats["total"] = rtd_statistics(samples["total"], f"{run.label}: total RTD")
     run.rtd_samples["total"] = samples.pop("total")
     for scope, times in samples.items():
@@ -155,25 +135,31 @@ def _analyse_profile(run: RunAnalysis) -> None:
         raise AnalysisInputError("zones.txt is needed to name the elements")
     low, _ = _require_window(run)
     first_step = None if run.transient else run.clock.step(low)
-    averages, blocks, residence, records = None, 0, None, 0
+    estimates, blocks, records = {}, 0, 0
 
     def from_elements() -> None:
-        nonlocal averages, blocks
+        nonlocal blocks
         stats = read_element_statistics(run.run_dir / "elements.txt")
         run.notes.extend(stats.issues)
-        averages, blocks = average_element_statistics(stats, run.zones, first_step)
+        times = run.clock.time(stats.timesteps) if run.clock is not None else stats.timesteps.astype(float)
+        by_zone, used = element_estimates(stats, run.zones, first_step, times)
+        estimates.update(by_zone)
+        blocks = int(used.sum())
+        run.holdup_residence = holdup_residence(stats, run.zones, used, times)
+        run.throughput = domain_throughput(stats, run.zones, used, times)
 
     def from_residence() -> None:
-        nonlocal residence, records
+        nonlocal records
         if run.records is None:
             raise AnalysisInputError("no usable residence.txt")
         selected = _rtd_selection(run)
-        residence, records = zone_residence_times(run.records, run.zones, selected), int(selected.sum())
+        estimates["residence_time"] = zone_residence_times(run.records, run.zones, selected)
+        records = int(selected.sum())
 
     produced = [_attempt(run, "element profiles: solid fraction and velocities", from_elements),
                 _attempt(run, "element profiles: residence time per element", from_residence)]
     if any(produced):
-        run.profile = element_profile(run.zones, averages, blocks, residence, records)
+        run.profile = element_profile(run.zones, estimates, blocks, records)
 
 
 def _frames_in_window(run: RunAnalysis, paths: list[Path], issues: list[str]) -> Iterator[tuple[ParticleFrame, float]]:
@@ -212,9 +198,10 @@ def _analyse_dumps(run: RunAnalysis, settings: Settings) -> None:
         for frame, time in _frames_in_window(run, paths, issues):
             accumulator.add(frame)
             if counter is None and counter_problem is None:
-                counter_problem = _plane_counter_problem(run, frame, settings.particle_density)
+                density = _particle_density(run, settings)
+                counter_problem = _plane_counter_problem(run, frame, density)
                 if counter_problem is None:
-                    counter = PlaneFlowCounter(planes, _x_period(frame), settings.particle_density)
+                    counter = PlaneFlowCounter(planes, _x_period(frame), density)
             if counter is not None:
                 counter.add(frame, time)
         run.notes.extend(issues)
@@ -230,15 +217,39 @@ def _analyse_dumps(run: RunAnalysis, settings: Settings) -> None:
         run.missing.append(("mass flow through zone boundaries", run.missing[-1][1]))
 
 
+def _particle_density(run: RunAnalysis, settings: Settings) -> float | None:
+    if settings.particle_density is not None:
+        return settings.particle_density
+    return run.parameters.rho_p if run.parameters is not None else None
+
+
 def _plane_counter_problem(run: RunAnalysis, frame: ParticleFrame, density: float | None) -> str | None:
     if run.clock is None:
         return "frame times unknown without massflow.txt"
     if "mass" not in frame.columns and density is None:
-        return "dumps carry no 'mass' column: give the particle density (--density)"
-    if frame.box is None and run.records is not None and np.any(run.records.exit_reason == "pass"):
+        return "dumps carry no 'mass' column and the run's rho_p is unknown: give the particle density (--density)"
+    periodic = _is_periodic(run)
+    if frame.box is None and periodic:
         return "periodic run with VTK dumps: they carry no box, so wraps cannot be told from jumps (use text dumps)"
-    if frame.box is None and run.records is None:
-        return "VTK dumps carry no box and residence.txt is missing: cannot tell whether the domain is periodic"
+    if frame.box is None and periodic is None:
+        return "VTK dumps carry no box, and neither params.json nor residence.txt says whether the domain is periodic"
+    return None
+
+
+def _is_periodic(run: RunAnalysis) -> bool | None:
+    """From the run's record: params.json's case, residence.txt's '# axis:' header, or a periodic pass."""
+    if run.parameters is not None and run.parameters.case is not None:
+        return run.parameters.case == "periodic"
+    path = run.run_dir / "residence.txt"
+    if path.is_file():
+        with open(path, encoding="utf-8", errors="replace") as stream:
+            for line in stream:
+                if not line.startswith("#"):
+                    break
+                if line.startswith("# axis:"):
+                    return line.split(":", 1)[1].split(",")[0].strip() == "periodic"
+    if run.records is not None and np.any(run.records.exit_reason == "pass"):
+        return True
     return None
 
 
@@ -255,12 +266,19 @@ def _snapshot(run: RunAnalysis, last_dump: Path, settings: Settings) -> None:
         raise AnalysisInputError(f"{last_dump}: no complete frame")
     frame = frames[-1]
     time = float(run.clock.time(frame.step)) if run.clock is not None else None
-    meshes = sorted((run.run_dir / "meshes").glob("*.stl"))
-    if not meshes:
-        run.notes.append("no meshes/*.stl: snapshot shows the particles only")
+    screws, posed = screw_dumps_at(run.run_dir, frame.step), True
+    if not screws:  # the screw surfaces as built: their pose at this step is unknown
+        screws, posed = sorted((run.run_dir / "meshes").glob("*.stl")), False
+    if not screws:
+        run.notes.append("no dumps/screws_*.vtk and no meshes/*.stl: snapshot shows the particles only")
     name = f"{_slug(run.label)}_snapshot.png"
-    render_snapshot(frame, run.out_dir / name, meshes, time, settings.screw_rpm)
+    render_snapshot(frame, run.out_dir / name, screws, time, posed)
     run.figures["snapshot"] = name
+
+
+def _sensor_flows(run: RunAnalysis) -> dict:
+    low, high = _require_window(run)
+    return sensor_flows(run.massflow, None if run.transient else low, None if run.transient else high)
 
 
 def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) -> RunAnalysis:
@@ -270,13 +288,14 @@ def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) ->
         return run
     slug = _slug(label)
     _attempt(run, "run log", lambda: _read_log(run))
+    _attempt(run, "run parameters", lambda: setattr(run, "parameters", read_run_parameters(run.run_dir)))
     _attempt(run, "zones", lambda: setattr(run, "zones", read_zones(run.run_dir / "zones.txt")))
     if _attempt(run, "steady state", lambda: _decide_window(run, settings)):
+        _attempt(run, "mean sensor flows", lambda: setattr(run, "sensor_flows", _sensor_flows(run)))
         run.figures["massflow"] = f"{slug}_massflow.png"
-        figures.plot_massflow_series(out_dir / run.figures["massflow"], label, run.massflow, run.steady)
-        _attempt(run, "mean sensor flows", lambda: setattr(
-            run, "sensor_means", mean_flows(run.massflow, *_require_window(run))))
-    elif settings.allow_transient:
+        figures.plot_massflow_series(out_dir / run.figures["massflow"], label, run.massflow, run.steady,
+                                     run.sensor_flows)
+    elif not settings.require_steady:
         run.window, run.transient = (-math.inf, math.inf), True
     if _attempt(run, "residence records", lambda: setattr(run, "records", read_residence(run.run_dir / "residence.txt"))):
         run.notes.extend(run.records.issues)
@@ -296,20 +315,6 @@ def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) ->
 
 # ---- several runs ---------------------------------------------------------------------------------
 
-@dataclass
-class Report:
-    runs: list[RunAnalysis]
-    comparisons: list[tuple[str, str, RTDComparison]]  # (reference, run, comparison)
-    figures: dict[str, str]
-    missing: list[tuple[str, str]]  # report-wide (part, reason)
-    settings: Settings
-
-    @property
-    def not_produced(self) -> list[tuple[str, str, str]]:
-        entries = [(run.label, part, reason) for run in self.runs for part, reason in run.missing]
-        return entries + [("all runs", part, reason) for part, reason in self.missing]
-
-
 def build_report(run_dirs: list[Path], out_dir: Path, labels: list[str] | None = None,
                  settings: Settings = Settings()) -> Report:
     out_dir = Path(out_dir)
@@ -326,13 +331,18 @@ def build_report(run_dirs: list[Path], out_dir: Path, labels: list[str] | None =
         figures.plot_profiles(out_dir / "profiles.png", with_profiles)
     else:
         report.missing.append(("element profiles figure", "no run has element profiles"))
-    with_flows = [(run.label, run.massflow.sensor_names, *run.sensor_means) for run in runs
-                  if run.sensor_means is not None]
+    with_flows = [(run.label, run.sensor_flows) for run in runs if run.sensor_flows]
     if with_flows:
         report.figures["massflow_variants"] = "massflow_variants.png"
         figures.plot_massflow_variants(out_dir / "massflow_variants.png", with_flows)
     else:
         report.missing.append(("mass flow across runs", "no run has mean sensor flows"))
+    if len(runs) > 1:  # every other run against the first: difference ± 95 % interval, significant or not
+        reference = runs[0].estimates()
+        for run in runs[1:]:
+            for key, estimate in run.estimates().items():
+                if key in reference:
+                    report.differences.append((runs[0].label, run.label, *key, difference(reference[key], estimate)))
     with_rtd = [run for run in runs if run.rtd_samples]
     if len(runs) > 1:
         if len(with_rtd) > 1:

@@ -1,9 +1,10 @@
 """Particle snapshot coloured by longitudinal velocity, screws drawn (seed Fig. 11), rendered
 off-screen with pyvista.
 
-The screw STL files are as built (phase 0); when the screw speed and the frame time are known
-they are turned to where they were at that time: both screws co-rotate with ω > 0 about +x, each
-about its own axis (zones.txt header). Files whose name contains "barrel" are drawn translucent.
+The screws are drawn in the pose the run itself wrote at the frame's step (`dumps/screws_*<step>.vtk`:
+fix wall/gran/corotating's `screw_dump`, or the stock `dump mesh/vtk`), never rebuilt from rpm × t.
+Without such dumps the STL files are drawn as built and the caption says the pose is unknown.
+Files whose name contains "barrel" are drawn translucent.
 """
 from __future__ import annotations
 
@@ -12,14 +13,20 @@ from pathlib import Path
 
 import numpy as np
 
-from .cross_section import CENTRE_DISTANCE
-from .dumps import ParticleFrame
+from .dumps import ParticleFrame, step_from_name
 from .run_files import AnalysisInputError
 
 
+def screw_dumps_at(run_dir: Path, step: int) -> list[Path]:
+    """The screw surfaces the run dumped at `step` (dumps/screws_*<step>.vtk), in name order."""
+    candidates = sorted((Path(run_dir) / "dumps").glob(f"screws_*{step}.vtk"))
+    return [path for path in candidates if step_from_name(path) == step]
+
+
 def render_snapshot(frame: ParticleFrame, out_png: Path, mesh_paths: Sequence[Path] = (),
-                    time: float | None = None, screw_rpm: float | None = None,
+                    time: float | None = None, posed: bool = False,
                     window_size: tuple[int, int] = (1600, 700)) -> Path:
+    """`posed`: the meshes are in their pose at the frame's step (screw dumps), not as built."""
     """Top view (looking down −z) of the particles of one frame, coloured by vx."""
     import pyvista as pv  # heavy import: only the snapshot needs VTK rendering
 
@@ -31,7 +38,6 @@ def render_snapshot(frame: ParticleFrame, out_png: Path, mesh_paths: Sequence[Pa
     limit = float(np.percentile(np.abs(frame.columns["vx"]), 98)) or 1.0
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     plotter.set_background("white")
-    angle = None if time is None or screw_rpm is None else 360.0 * screw_rpm / 60.0 * time
     for path in mesh_paths:
         try:
             mesh = pv.read(path)
@@ -40,16 +46,13 @@ def render_snapshot(frame: ParticleFrame, out_png: Path, mesh_paths: Sequence[Pa
         if "barrel" in Path(path).name:
             plotter.add_mesh(mesh, color="lightgrey", opacity=0.12)
             continue
-        if angle is not None:  # each screw turns about its own axis, the one on its side of y = 0
-            axis_y = np.copysign(CENTRE_DISTANCE / 2, mesh.center[1])
-            mesh = mesh.rotate_x(angle, point=(0.0, axis_y, 0.0))
         plotter.add_mesh(mesh, color="silver", smooth_shading=True)
     plotter.add_mesh(cloud, scalars="vx (m/s)", cmap="coolwarm", clim=(-limit, limit),
                      render_points_as_spheres=True, point_size=_point_size(len(points)),
                      scalar_bar_args={"title": "longitudinal velocity vx (m/s)", "color": "black"})
     caption = f"step {frame.step}" + ("" if time is None else f", t = {time:.4g} s") + f", {len(points)} particles"
-    if mesh_paths and angle is None:
-        caption += ", screws drawn as built (rotation unknown)"
+    if mesh_paths:
+        caption += ", screws as dumped at this step" if posed else ", screws drawn as built (no screw dump: pose unknown)"
     plotter.add_text(caption, font_size=10, color="black")
     plotter.view_xy()
     plotter.camera.zoom(1.3)

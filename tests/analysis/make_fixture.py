@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import io
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,6 +29,8 @@ ROOT_RADIUS = 6.9e-3
 BORE_RADIUS = 12.5e-3
 FREE_AREA = 435.26e-6  # m^2
 DENSITY = 1263.0
+RPM = 600.0  # params.json of the fixture: one revolution (the steady-state window) is 0.1 s
+D_MEAN = 4.0e-4
 ELEMENT_VALUES = {  # solid_fraction, mean_speed, mean_axial_velocity per element type
     "conveying": (0.10, 0.45, 0.25),
     "kneading": (0.30, 0.80, 0.08),
@@ -202,9 +205,17 @@ def _log_text(particles: int, warnings: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _params(kind: str, seed: int, rpm: float) -> dict:
+    """What the case runner records in params.json (the contract in docs/analysis.md)."""
+    return {"case": kind, "scale": "synthetic", "seed": seed, "np": 1,
+            "variables": {"rpm": f"{rpm:g}", "rho_p": f"{DENSITY:g}", "d_mean": f"{D_MEAN:g}"},
+            "rpm": rpm, "rho_p": DENSITY, "d_mean": D_MEAN, "mesh_dir": "meshes", "zones_file": "zones.txt",
+            "git_commit": "synthetic"}
+
+
 def write_run(run_dir: Path | str, *, kind: str = "periodic", steady: bool = True, dumps: str | None = "txt",
               meshes: bool = True, records: int = 4000, frames: int = 5, particles: int = 1500,
-              seed: int = 1) -> FixtureTruth:
+              seed: int = 1, rpm: float = RPM) -> FixtureTruth:
     """Write a complete run directory; return what the tests should find in it."""
     run_dir = Path(run_dir)
     run_dir.mkdir(parents=True, exist_ok=True)
@@ -216,11 +227,34 @@ def write_run(run_dir: Path | str, *, kind: str = "periodic", steady: bool = Tru
     (run_dir / "elements.txt").write_text(_elements_text(rng, zone_kinds, zone_edges, steady))
     (run_dir / "massflow.txt").write_text(_massflow_text(rng, steady, 2 if kind == "periodic" else 3))
     (run_dir / "log.lammps").write_text(_log_text(particles, warnings=not steady))
+    (run_dir / "params.json").write_text(json.dumps(_params(kind, seed, rpm), indent=1))
     if dumps is not None:
         _write_dumps(rng, run_dir / "dumps", kind, dumps, zone_kinds, zone_edges, frames, particles)
     if meshes:
         _write_meshes(run_dir / "meshes", zone_edges[-1])
     return FixtureTruth(zone_edges, records, rtd_records)
+
+
+def write_short_run(run_dir: Path | str, seconds: float = 0.03, every: int = 5, seed: int = 5) -> None:
+    """The main job's situation (issue 15): a periodic run whose sampling window is far shorter than
+    one pass. A periodic run cut to its first `seconds` of records, with every `every`-th
+    mass-flow row (5 ms windows as the demo scale writes) and no complete residence record."""
+    run_dir = Path(run_dir)
+    write_run(run_dir, kind="periodic", dumps=None, meshes=False, seed=seed)
+    end = RECORD_START + seconds + 1e-9
+    flow_lines = (run_dir / "massflow.txt").read_text().splitlines()
+    header = [line for line in flow_lines if line.startswith("#")]
+    rows = [line for line in flow_lines if not line.startswith("#") and float(line.split()[1]) <= end]
+    (run_dir / "massflow.txt").write_text("\n".join(header + rows[every - 1::every]) + "\n")
+    element_lines = (run_dir / "elements.txt").read_text().splitlines()
+    zones = len(LAYOUTS["periodic"])
+    kept = element_lines[:3]
+    for start in range(3, len(element_lines), zones + 1):
+        if int(element_lines[start].split()[0]) * DT <= end:
+            kept += element_lines[start:start + zones + 1]
+    (run_dir / "elements.txt").write_text("\n".join(kept) + "\n")
+    residence_header = [line for line in (run_dir / "residence.txt").read_text().splitlines() if line.startswith("#")]
+    (run_dir / "residence.txt").write_text("\n".join(residence_header) + "\n")
 
 
 def main() -> None:

@@ -5,7 +5,8 @@ import pytest
 from tsg_analysis.cross_section import (BORE_RADIUS, CENTRE_DISTANCE, grid_edges, inside_bore,
                                         solid_fraction_maps)
 from tsg_analysis.dumps import ParticleFrame
-from tsg_analysis.profiles import (aligned_positions, average_element_statistics, block_mask, zone_residence_times)
+from tsg_analysis.profiles import (aligned_positions, block_mask, domain_throughput, element_estimates,
+                                   holdup_residence, zone_residence_times)
 from tsg_analysis.run_files import (AnalysisInputError, ElementStatistics, ResidenceRecords, Zones,
                                     read_element_statistics, read_zones)
 
@@ -71,13 +72,32 @@ def test_velocities_are_mass_weighted_and_blocks_follow_the_window():
               np.array([[0.9, 0.9], [0.1, 0.2], [0.3, 0.4]]),
               np.array([[9.0, 9.0], [1.0, 2.0], [3.0, 0.0]]),
               np.array([[5, 5], [10, 30], [30, 0]], dtype=float))
-    averages, blocks = average_element_statistics(s, ZONES, first_step=100)  # block 100 covers steps 0-100
-    assert blocks == 2
-    np.testing.assert_allclose(averages["solid_fraction"], [0.2, 0.3])
-    np.testing.assert_allclose(averages["mean_speed"], [(10 * 1 + 30 * 3) / 40, 2.0])
+    estimates, used = element_estimates(s, ZONES, first_step=100)  # block 100 covers steps 0-100
+    assert used.sum() == 2
+    np.testing.assert_allclose([e.mean for e in estimates["solid_fraction"]], [0.2, 0.3])
+    np.testing.assert_allclose([e.mean for e in estimates["mean_speed"]], [(10 * 1 + 30 * 3) / 40, 2.0])
+    assert not any(e.resolved for e in estimates["mean_speed"])  # two blocks: no interval claimed
     assert list(block_mask(s, None)) == [True, True, True]
     with pytest.raises(AnalysisInputError, match="no block inside"):
-        average_element_statistics(s, ZONES, first_step=1000)
+        element_estimates(s, ZONES, first_step=1000)
+
+
+def test_holdup_over_throughput_is_littles_law():
+    # constant hold-up 3 g + 1 g moving at 0.1 and 0.05 m/s through 20 + 5 mm: flux (3e-3·0.1 + 1e-3·0.05)/0.025
+    blocks = 200
+    rng = np.random.default_rng(5)
+    mass = np.tile([3e-3, 1e-3], (blocks, 1)) * (1 + 0.01 * rng.normal(size=(blocks, 2)))
+    velocity = np.tile([0.1, 0.05], (blocks, 1)) * (1 + 0.01 * rng.normal(size=(blocks, 2)))
+    values = np.stack([np.full_like(mass, 0.1), velocity, velocity, np.ones_like(mass), mass], axis=-1)
+    s = ElementStatistics(np.arange(1, blocks + 1) * 100, values)
+    times = s.timesteps * 1e-5
+    used = np.ones(blocks, bool)
+    flux = (3e-3 * 0.1 + 1e-3 * 0.05) / 0.025  # kg/s
+    residence = holdup_residence(s, ZONES, used, times)
+    assert residence["total"].mean == pytest.approx(4e-3 / flux, rel=0.01)
+    assert residence["kneading"].mean == pytest.approx(1e-3 / flux, rel=0.01)
+    assert residence["total"].resolved and residence["total"].half_width < 0.01 * residence["total"].mean
+    assert domain_throughput(s, ZONES, used, times).mean == pytest.approx(flux * 3600, rel=0.01)
 
 
 def test_fixture_profiles_recover_the_prescribed_values(periodic_run):
@@ -85,17 +105,18 @@ def test_fixture_profiles_recover_the_prescribed_values(periodic_run):
 
     run_dir, _ = periodic_run
     zones = read_zones(run_dir / "zones.txt")
-    averages, _ = average_element_statistics(read_element_statistics(run_dir / "elements.txt"), zones,
-                                             first_step=STEADY_FROM / DT)
+    estimates, _ = element_estimates(read_element_statistics(run_dir / "elements.txt"), zones,
+                                     first_step=STEADY_FROM / DT)
     expected = np.array([ELEMENT_VALUES[kind] for kind in zones.kind])
-    np.testing.assert_allclose(averages["solid_fraction"], expected[:, 0])
-    np.testing.assert_allclose(averages["mean_axial_velocity"], expected[:, 2])
+    np.testing.assert_allclose([e.mean for e in estimates["solid_fraction"]], expected[:, 0])
+    np.testing.assert_allclose([e.mean for e in estimates["mean_axial_velocity"]], expected[:, 2])
 
 
 def test_zone_residence_times_and_mismatch():
     records = ResidenceRecords(np.arange(3), np.zeros(3), np.ones(3), np.ones(3), np.array(["outlet"] * 3),
                                {}, np.array([[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]]))
-    np.testing.assert_allclose(zone_residence_times(records, ZONES, np.array([True, True, False])), [2.0, 3.0])
+    np.testing.assert_allclose([e.mean for e in zone_residence_times(records, ZONES, np.array([True, True, False]))],
+                               [2.0, 3.0])
     three = Zones(("conveying",) * 3, np.zeros(3), np.ones(3), np.ones(3))
     with pytest.raises(AnalysisInputError, match="2 zone columns but zones.txt 3 zones"):
         zone_residence_times(records, three, np.ones(3, bool))

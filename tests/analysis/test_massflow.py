@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from tsg_analysis.dumps import ParticleFrame
-from tsg_analysis.massflow import (PlaneFlowCounter, decide_steady_state, mean_flows, step_clock, window_means)
+from tsg_analysis.massflow import (PlaneFlowCounter, decide_steady_state, sensor_flows, step_clock, window_means)
 from tsg_analysis.run_files import AnalysisInputError, MassFlowRecord
 
 DT = 1e-6
@@ -30,9 +30,11 @@ def test_steady_from_where_outlet_meets_inlet():
     steady = decide_steady_state(record(time, inlet, 0.5 * (inlet + outlet), outlet), window=0.1)
     assert steady.reached and steady.start_time == pytest.approx(0.4)
     assert "steady from t = 0.4 s" in steady.message
-    mean, spread = mean_flows(record(time, inlet, outlet), steady.start_time, steady.end_time)
-    np.testing.assert_allclose(mean, [14.4, 14.4])
-    np.testing.assert_allclose(spread, [0.0, 0.0], atol=1e-12)
+    flows = sensor_flows(record(time, inlet, outlet), steady.start_time, steady.end_time)
+    np.testing.assert_allclose([e.mean for e in flows.values()], [14.4, 14.4])
+    np.testing.assert_allclose([e.half_width for e in flows.values()], [0.0, 0.0], atol=1e-12)
+    assert flows["sensor_2"].chosen_start == pytest.approx(0.4005)  # middle of the first row in the window
+    assert flows["sensor_2"].detected_start == pytest.approx(0.4005, abs=0.006)  # the outlet's jump, found
 
 
 def test_outlet_that_never_catches_up_is_not_steady():
@@ -45,20 +47,20 @@ def test_outlet_that_never_catches_up_is_not_steady():
 def test_tolerance_is_relative_to_the_inlet():
     time = np.arange(1, 1001) * 1e-3
     inlet, outlet = np.full_like(time, 10.0), np.full_like(time, 10.4)
-    assert decide_steady_state(record(time, inlet, outlet), tolerance=0.05).reached
-    assert not decide_steady_state(record(time, inlet, outlet), tolerance=0.03).reached
+    assert decide_steady_state(record(time, inlet, outlet), 0.1, tolerance=0.05).reached
+    assert not decide_steady_state(record(time, inlet, outlet), 0.1, tolerance=0.03).reached
 
 
 def test_empty_granulator_is_not_steady():
     time = np.arange(1, 1001) * 1e-3
-    steady = decide_steady_state(record(time, np.zeros_like(time), np.zeros_like(time)))
+    steady = decide_steady_state(record(time, np.zeros_like(time), np.zeros_like(time)), 0.1)
     assert not steady.reached and "no forward flow" in steady.message
 
 
 def test_short_record_and_single_sensor_cannot_decide():
     time = np.arange(1, 101) * 1e-3
     assert "shorter than 2 windows" in decide_steady_state(record(time, time, time), window=0.1).message
-    assert "single sensor" in decide_steady_state(record(time, time)).message
+    assert "single sensor" in decide_steady_state(record(time, time), 0.1).message
 
 
 def test_step_clock_maps_steps_to_time():

@@ -167,3 +167,14 @@ def test_damaged_vtk_dump_is_an_input_error(tmp_path):
     path = write(tmp_path, "particles_5.vtk", "# vtk DataFile Version 2.0\ncut here")
     with pytest.raises(AnalysisInputError, match="particles_5.vtk"):
         read_vtk_dump(path)
+
+
+def test_bounding_box_files_of_vtk_dumps_are_not_frames(tmp_path):
+    """dump custom/vtk writes particles_boundingBox_<step>.vtk beside particles_<step>.vtk (seen in a real run)."""
+    dumps = tmp_path / "dumps"
+    dumps.mkdir()
+    for name in ("particles_2000.vtk", "particles_boundingBox_2000.vtk", "particles_4000.vtk",
+                 "particles_boundingBox_4000.vtk"):
+        (dumps / name).write_text("# vtk DataFile Version 2.0\n")
+    paths, _ = find_dump_files(tmp_path)
+    assert [p.name for p in paths] == ["particles_2000.vtk", "particles_4000.vtk"]

@@ -1,0 +1,198 @@
+"""The short summary of a run (what the case runner prints) and sweep tables, every number with its
+95 % confidence interval.
+
+`summarise(run_dir)` averages over the whole sampling record the run wrote (the case inputs start
+their outputs after the start-up) and reports the detected start of stationarity beside it.
+`summary_table(run_dir)` is the text the runner prints. `compare_runs(reference, variants)` gives,
+for each variant (one or several replica run directories), the difference of every quantity against
+the reference with its interval, marked significant or not; `sweep_markdown` / `write_sweep_csv`
+write it.
+"""
+from __future__ import annotations
+
+import csv
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .massflow import sensor_flows, step_clock
+from .model import (AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION,
+                    UNITS)
+from .parameters import RunParameters, read_run_parameters
+from .profiles import domain_throughput, element_estimates, holdup_residence
+from .rtd import mean_residence
+from .run_files import (RTD_EXIT_REASONS, AnalysisInputError, read_element_statistics, read_massflow, read_residence,
+                        read_zones)
+from .uncertainty import Difference, Estimate, combine_replicas, difference
+
+
+
+@dataclass(frozen=True)
+class SummaryRow:
+    quantity: str  # one of UNITS
+    scope: str  # sensor, element type, element label
+    estimate: Estimate
+
+    @property
+    def unit(self) -> str:
+        return UNITS[self.quantity]
+
+
+@dataclass
+class RunSummary:
+    run_dir: Path
+    parameters: RunParameters | None
+    rows: list[SummaryRow] = field(default_factory=list)
+    complete_records: int = 0
+    not_available: list[tuple[str, str]] = field(default_factory=list)  # (quantity, reason)
+
+    def get(self, quantity: str, scope: str) -> Estimate | None:
+        return next((r.estimate for r in self.rows if r.quantity == quantity and r.scope == scope), None)
+
+
+def _part(summary: RunSummary, quantity: str, action: Callable[[], None]) -> None:
+    try:
+        action()
+    except AnalysisInputError as problem:
+        summary.not_available.append((quantity, str(problem)))
+
+
+def summarise(run_dir: Path | str) -> RunSummary:
+    """Every quantity of the run's summary ± 95 % interval, over the whole sampling record."""
+    run_dir = Path(run_dir)
+    if not run_dir.is_dir():
+        raise AnalysisInputError(f"{run_dir}: not a directory")
+    summary = RunSummary(run_dir, None)
+    _part(summary, "run parameters", lambda: setattr(summary, "parameters", read_run_parameters(run_dir)))
+    zones = read_zones(run_dir / "zones.txt")
+    clock = None
+
+    def flows() -> None:
+        nonlocal clock
+        record = read_massflow(run_dir / "massflow.txt")
+        if len(record.time) == 0:
+            raise AnalysisInputError(f"{run_dir / 'massflow.txt'}: no complete window yet")
+        clock = step_clock(record)
+        summary.rows += [SummaryRow(MASS_FLOW, name, e) for name, e in sensor_flows(record, None).items()]
+
+    def records() -> None:
+        data = read_residence(run_dir / "residence.txt")
+        complete = np.isin(data.exit_reason, RTD_EXIT_REASONS)
+        summary.complete_records = int(complete.sum())
+        if not complete.any():
+            raise AnalysisInputError(f"0 complete records ({', '.join(RTD_EXIT_REASONS)}): the sampling window is "
+                                     "shorter than one pass")
+        exits = data.exit_time[complete]
+        summary.rows += [SummaryRow(RESIDENCE_RECORDS, kind, mean_residence(data.time_by_type[kind][complete], exits))
+                         for kind in zones.types_present]
+        summary.rows.append(SummaryRow(RESIDENCE_RECORDS, "total", mean_residence(data.residence_time[complete], exits)))
+
+    def elements() -> None:
+        stats = read_element_statistics(run_dir / "elements.txt")
+        times = clock.time(stats.timesteps) if clock is not None else stats.timesteps.astype(float)
+        by_zone, used = element_estimates(stats, zones, None, times)
+        summary.rows.append(SummaryRow(MASS_FLOW, DOMAIN_FLUX, domain_throughput(stats, zones, used, times)))
+        summary.rows += [SummaryRow(RESIDENCE_HOLDUP, kind, e)
+                         for kind, e in holdup_residence(stats, zones, used, times).items()]
+        summary.rows += [SummaryRow(SOLID_FRACTION, label, e) for label, e in zip(zones.labels, by_zone["solid_fraction"])]
+        summary.rows += [SummaryRow(AXIAL_VELOCITY, label, e)
+                         for label, e in zip(zones.labels, by_zone["mean_axial_velocity"])]
+
+    _part(summary, MASS_FLOW, flows)
+    _part(summary, RESIDENCE_RECORDS, records)
+    _part(summary, "element statistics", elements)
+    return summary
+
+
+def _start(value: float | None) -> str:
+    return "-" if value is None else f"{value:.4g}"
+
+
+def summary_table(run_dir: Path | str) -> str:
+    """The runner's summary: one line per quantity, mean ± 95 % interval or why there is none."""
+    summary = summarise(run_dir)
+    lines = []
+    if summary.parameters is not None:
+        p = summary.parameters
+        lines.append(f"parameters ({p.source}): {p.rpm:g} rpm, rho_p {p.rho_p:g} kg/m3, d_mean {p.d_mean:g} m")
+    lines.append("mean ± 95 % confidence interval over the sampling window (independent samples; 'drifting': "
+                 "the window's halves differ; stationary from: detected start vs window start)")
+    for quantity, unit in UNITS.items():
+        rows = [r for r in summary.rows if r.quantity == quantity]
+        reasons = [why for q, why in summary.not_available if q == quantity or (q == "element statistics"
+                   and quantity in (RESIDENCE_HOLDUP, SOLID_FRACTION, AXIAL_VELOCITY))]
+        if quantity == MASS_FLOW and not rows and not reasons:
+            continue
+        lines.append(f"{quantity} ({unit})" + (f", {summary.complete_records} complete records"
+                                                if quantity == RESIDENCE_RECORDS else ""))
+        lines += [f"  (not available: {why})" for why in reasons]
+        for r in rows:
+            e = r.estimate
+            lines.append(f"  {r.scope:<26} {e.text():<44} n_eff {e.independent_samples:6.1f}  "
+                         f"stationary from {_start(e.detected_start)} (window from {_start(e.chosen_start)})")
+    return "\n".join(lines)
+
+
+# ---- sweeps: several runs against a reference ----------------------------------------------------
+
+@dataclass(frozen=True)
+class ComparisonRow:
+    variant: str
+    quantity: str
+    scope: str
+    reference: Estimate
+    value: Estimate
+    difference: Difference
+
+
+def combined_rows(run_dirs: Sequence[Path | str]) -> dict[tuple[str, str], Estimate]:
+    """Replicas (runs that differ only in the seed) combined quantity by quantity."""
+    if not run_dirs:
+        raise ValueError("no run directories")
+    summaries = [summarise(d) for d in run_dirs]
+    keys = [(r.quantity, r.scope) for r in summaries[0].rows]
+    combined = {}
+    for key in keys:
+        estimates = [s.get(*key) for s in summaries]
+        if all(e is not None for e in estimates):
+            combined[key] = combine_replicas(estimates)  # type: ignore[arg-type]
+    return combined
+
+
+def compare_runs(reference: Sequence[Path | str], variants: Mapping[str, Sequence[Path | str]]) -> list[ComparisonRow]:
+    """Each variant against the reference, quantity by quantity: difference ± 95 % interval."""
+    base = combined_rows(reference)
+    rows = []
+    for label, run_dirs in variants.items():
+        for key, value in combined_rows(run_dirs).items():
+            if key in base:
+                rows.append(ComparisonRow(label, *key, base[key], value, difference(base[key], value)))
+    return rows
+
+
+def sweep_markdown(rows: Sequence[ComparisonRow]) -> str:
+    lines = ["| variant | quantity | scope | reference | variant | difference | significant |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        unit = UNITS[r.quantity]
+        lines.append(f"| {r.variant} | {r.quantity} ({unit}) | {r.scope} | {r.reference.text()} | {r.value.text()} | "
+                     f"{r.difference.text(unit)} | {'yes' if r.difference.significant else 'no'} |")
+    return "\n".join(lines) + "\n"
+
+
+def write_sweep_csv(rows: Sequence[ComparisonRow], path: Path | str) -> None:
+    def number(value: float | None) -> object:
+        return "" if value is None or not math.isfinite(value) else value
+
+    with open(path, "w", newline="", encoding="utf-8") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(["variant", "quantity", "unit", "scope", "reference_mean", "reference_half_width",
+                         "variant_mean", "variant_half_width", "difference", "difference_half_width", "significant",
+                         "resolved"])
+        for r in rows:
+            writer.writerow([r.variant, r.quantity, UNITS[r.quantity], r.scope, number(r.reference.mean),
+                             number(r.reference.half_width), number(r.value.mean), number(r.value.half_width),
+                             number(r.difference.value), number(r.difference.half_width), r.difference.significant,
+                             r.difference.inputs_resolved])

@@ -1,0 +1,96 @@
+"""The runner's summary and the sweep tables: every number ± 95 % interval, differences marked
+significant only when their interval excludes zero; the main job's too-short window says so."""
+import shutil
+
+import numpy as np
+import pytest
+
+from make_fixture import FEED_KG_H, write_short_run
+from tsg_analysis.model import Settings
+from tsg_analysis.report import build_report
+from tsg_analysis.summary import (AXIAL_VELOCITY, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION,
+                                  compare_runs, summarise, summary_table, sweep_markdown, write_sweep_csv)
+
+
+@pytest.fixture(scope="module")
+def short_run(tmp_path_factory):
+    path = tmp_path_factory.mktemp("runs") / "periodic-demo"
+    write_short_run(path)
+    return path
+
+
+def test_summary_of_a_steady_run(periodic_run):
+    summary = summarise(periodic_run[0])
+    inlet = summary.get(MASS_FLOW, "sensor_1")
+    assert inlet.resolved and abs(inlet.mean - FEED_KG_H) <= inlet.half_width
+    # the fixture's elements are half full until 1.2 s: 19 of 100 blocks at 0.15, 81 at 0.3
+    kneading = summary.get(SOLID_FRACTION, "K1")
+    assert kneading.mean == pytest.approx((19 * 0.15 + 81 * 0.3) / 100)
+    assert kneading.detected_start == pytest.approx(1.2, abs=0.011)  # the step, found
+    assert summary.get(RESIDENCE_RECORDS, "total").resolved and summary.complete_records > 1000
+    assert {r.quantity for r in summary.rows} == {MASS_FLOW, RESIDENCE_RECORDS, RESIDENCE_HOLDUP, SOLID_FRACTION,
+                                                  AXIAL_VELOCITY}
+    assert summary.parameters.rpm == 600.0
+    text = summary_table(periodic_run[0])
+    assert "± " in text and "600 rpm" in text and "mass flow (kg/h)" in text
+
+
+def test_the_main_jobs_short_window_says_so_with_the_interval(short_run, tmp_path):
+    summary = summarise(short_run)
+    assert summary.complete_records == 0
+    assert all(not r.estimate.resolved for r in summary.rows), [r for r in summary.rows if r.estimate.resolved]
+    text = summary_table(short_run)
+    assert "0 complete records" in text and "shorter than one pass" in text
+    assert "window too short: too few independent samples" in text and "indicative" in text
+    report = build_report([short_run], tmp_path, settings=Settings(snapshot=False))
+    markdown = (tmp_path / "report.md").read_text(encoding="utf-8")
+    assert report.runs[0].transient and report.runs[0].profile is not None
+    assert "### Element profiles" in markdown and "window too short (" in markdown
+    assert "shorter than a pass" in markdown  # no RTD, and why
+    assert (tmp_path / "periodic-demo_massflow.png").stat().st_size > 10_000
+
+
+def test_sweep_table_replicas_and_significance(tmp_path, periodic_run):
+    from make_fixture import write_run
+
+    replica = tmp_path / "replica"
+    write_run(replica, kind="periodic", dumps=None, meshes=False, seed=11)
+    faster = tmp_path / "faster"
+    shutil.copytree(replica, faster)
+    lines = (faster / "massflow.txt").read_text().splitlines()
+    shifted = [line if line.startswith("#") else " ".join(line.split()[:2] + [f"{float(w) + 1.0:.5f}"
+                                                                             for w in line.split()[2:]])
+               for line in lines]
+    (faster / "massflow.txt").write_text("\n".join(shifted) + "\n")  # +1 kg/h at every sensor
+
+    rows = compare_runs([periodic_run[0]], {"replica": [replica], "faster": [faster], "both": [replica, faster]})
+    by_key = {(r.variant, r.quantity, r.scope): r for r in rows}
+    same = by_key[("replica", MASS_FLOW, "sensor_1")].difference
+    assert not same.significant and same.text("kg/h").startswith("not resolved")
+    shift = by_key[("faster", MASS_FLOW, "sensor_1")].difference
+    assert shift.significant and abs(shift.value - 1.0) <= shift.half_width
+    assert not by_key[("faster", SOLID_FRACTION, "K1")].difference.significant  # elements.txt untouched
+    assert by_key[("both", MASS_FLOW, "sensor_1")].value.replicas == 2
+    # two replicas 1 kg/h apart: the Birge ratio widens the combined interval to cover the scatter
+    assert by_key[("both", MASS_FLOW, "sensor_1")].value.half_width > 0.3
+    table = sweep_markdown(rows)
+    assert "| faster | mass flow (kg/h) | sensor_1 |" in table and "(significant) | yes |" in table
+    write_sweep_csv(rows, tmp_path / "sweep.csv")
+    data = np.genfromtxt(tmp_path / "sweep.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+    assert len(data) == len(rows)
+
+
+def test_compare_command_line_with_replicas(tmp_path, periodic_run, full_run):
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    analysis = Path(__file__).resolve().parents[2] / "analysis"
+    csv_path = tmp_path / "sweep.csv"
+    proc = subprocess.run([sys.executable, "-m", "tsg_analysis", "compare", str(periodic_run[0]),
+                           f"{periodic_run[0]},{full_run[0]}", "--csv", str(csv_path)],
+                          capture_output=True, encoding="utf-8", env=dict(os.environ, PYTHONPATH=str(analysis)))
+    assert proc.returncode == 0, proc.stderr
+    assert "| variant | quantity |" in proc.stdout and f"{periodic_run[0]},{full_run[0]}" in proc.stdout
+    assert csv_path.is_file() and "Traceback" not in proc.stderr
