@@ -11,10 +11,11 @@ diameter; each class gets
 and LIGGGHTS' `particledistribution/discrete/numberbased` takes the number fractions. The class
 diameters are written relative to the mean, so the include file works for any mean diameter.
 
-    python cases/psd.py write cases/include/psd_s0.05.in 0.05
+    tsg-psd write cases/include/psd_s0.05.in 0.05
 """
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 from pathlib import Path
@@ -51,7 +52,7 @@ def _partial_moments(lo: np.ndarray, hi: np.ndarray, mean: float, sigma: float) 
 def size_classes(relative_sigma: float, classes: int) -> tuple[np.ndarray, np.ndarray]:
     """(diameters relative to the mean, number fractions) of the truncated normal."""
     if not (relative_sigma > 0):
-        raise ValueError(f"relative_sigma = {relative_sigma} must be > 0")
+        raise ValueError(f"relative_sigma = {relative_sigma} is not allowed: must be > 0")
     if not 1 <= classes <= len(TEMPLATE_SEEDS):
         raise ValueError(f"classes = {classes} must be in [1, {len(TEMPLATE_SEEDS)}]")
     lo, hi = TRUNCATION
@@ -82,13 +83,22 @@ def include_text(relative_sigma: float, classes: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-def main(argv: list[str]) -> int:
-    if len(argv) != 4 or argv[1] != "write":
-        print(__doc__)
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="tsg-psd", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True)
+    write = sub.add_parser("write", help="write the LIGGGHTS include of a PSD")
+    write.add_argument("out", type=Path)
+    write.add_argument("relative_sigma", type=float)
+    write.add_argument("--classes", type=int, default=7)
+    args = parser.parse_args(argv)
+    try:
+        text = include_text(args.relative_sigma, args.classes)
+        args.out.write_text(text)
+    except (ValueError, OSError) as problem:
+        print(f"tsg-psd: error: {problem}", file=sys.stderr)
         return 2
-    Path(argv[2]).write_text(include_text(float(argv[3]), 7))
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main())

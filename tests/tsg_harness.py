@@ -6,11 +6,11 @@ Used by every LIGGGHTS-level test:
     run.assert_clean()                  # no warning that matters
     ke = run.thermo[-1]["KinEng"]       # numpy arrays, one dict per `run` command
 
-Environment (set by ctest, see tests/CMakeLists.txt): TSG_LMP (the executable), TSG_MPIEXEC.
+Environment (set by ctest, see tests/CMakeLists.txt): TSG_LMP (the executable), TSG_MPIEXEC; lmp
+is started by the project's one launcher, tsg_cases.launcher.
 """
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
@@ -20,7 +20,10 @@ from typing import Iterable, Mapping
 
 import numpy as np
 
-from tsg_analysis.liggghts_log import parse_errors, parse_thermo, parse_warnings
+from tsg_analysis.liggghts_log import parse_thermo, parse_warnings
+from tsg_cases.launcher import errors as lmp_errors, lmp_command, lmp_environment, lmp_executable, mpi_command
+
+__all__ = ["LmpFailed", "LmpRun", "lmp_executable", "mpi_command", "run_lmp"]
 
 # Warnings that make a run untrustworthy. Tests may allow others explicitly.
 WARNINGS_THAT_MATTER = (
@@ -35,24 +38,6 @@ WARNINGS_THAT_MATTER = (
 
 class LmpFailed(AssertionError):
     """lmp exited with an error, or a run contains a warning that matters."""
-
-
-def lmp_executable() -> str:
-    exe = os.environ.get("TSG_LMP")
-    if not exe:
-        root = Path(__file__).resolve().parents[1]
-        exe = str(root / "build" / "lmp")
-    if not Path(exe).is_file():
-        raise FileNotFoundError(f"lmp executable not found at {exe} (set TSG_LMP or build the project)")
-    return exe
-
-
-def mpi_command(nprocs: int) -> list[str]:
-    """mpirun prefix for nprocs ranks (root and oversubscription handled here)."""
-    launcher = os.environ.get("TSG_MPIEXEC") or shutil.which("mpirun") or shutil.which("mpiexec")
-    if not launcher:
-        raise FileNotFoundError("mpirun not found (install openmpi-bin)")
-    return [launcher, "-np", str(nprocs), "--oversubscribe", "--allow-run-as-root", "--bind-to", "none"]
 
 
 @dataclass
@@ -104,19 +89,14 @@ def run_lmp(input_text: str, workdir: Path | str, nprocs: int = 1,
             target.write_text(content)
     (workdir / input_name).write_text(input_text)
 
-    cmd = [lmp_executable(), "-in", input_name, "-log", "log.lammps", "-echo", "none"]
-    for key, value in (variables or {}).items():
-        cmd += ["-var", str(key), str(value)]
-    if nprocs > 1:
-        cmd = mpi_command(nprocs) + cmd
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    proc = subprocess.run(cmd, cwd=workdir, capture_output=True, timeout=timeout, env=env,
+    cmd = lmp_command(input_name, variables, nprocs)
+    proc = subprocess.run(cmd, cwd=workdir, capture_output=True, timeout=timeout, env=lmp_environment(),
                           encoding="utf-8", errors="replace")  # LIGGGHTS may print stray bytes
     log_path = workdir / "log.lammps"
     log = log_path.read_text(errors="replace") if log_path.exists() else ""
     run = LmpRun(workdir=workdir, returncode=proc.returncode, stdout=proc.stdout, stderr=proc.stderr,
                  log=log, thermo=parse_thermo(log), warnings=parse_warnings(log),
-                 errors=parse_errors(log + "\n" + proc.stdout + "\n" + proc.stderr))
+                 errors=lmp_errors(log, proc.stdout, proc.stderr))
     if expect_error:
         if proc.returncode == 0:
             raise LmpFailed(f"lmp was expected to fail but succeeded in {workdir}")

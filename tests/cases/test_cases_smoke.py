@@ -1,6 +1,7 @@
 """Short smoke versions of the granulator cases (demo scale): conveying direction and speed, mass
 conservation, no escaped or lost particles, outputs present and parseable, -var changes exactly
 the intended parameter, bad input stops with a clear message."""
+import json
 import os
 import re
 import subprocess
@@ -11,6 +12,7 @@ import numpy as np
 import pytest
 
 from tsg_analysis.liggghts_log import parse_thermo
+from tsg_cases.launcher import lmp_command, lmp_environment
 from tsg_analysis.run_files import read_element_statistics, read_massflow, read_residence, read_zones
 
 ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
@@ -20,7 +22,7 @@ LEAD = 0.025            # m, conveying lead S (seed paper Table 1)
 
 def run_case(case: str, out: Path, *variables: tuple[str, object], expect_ok: bool = True,
              extra: tuple[str, ...] = ()) -> subprocess.CompletedProcess:
-    command = [PYTHON, str(ROOT / "cases" / "run_case.py"), case, "--scale", "demo", "--out", str(out), *extra]
+    command = [PYTHON, "-m", "tsg_cases.run_case", case, "--scale", "demo", "--out", str(out), *extra]
     for name, value in variables:
         command += ["-v", name, str(value)]
     proc = subprocess.run(command, capture_output=True, text=True, timeout=900)
@@ -57,7 +59,7 @@ def test_periodic_conveys_downstream_at_a_plausible_speed(periodic_forward):
 
 
 def test_periodic_reversed_rotation_conveys_upstream(tmp_path):
-    run_case("periodic", tmp_path, ("rpm", -600), ("t_startup", 0.004), ("t_sample", 0.006),
+    run_case("periodic", tmp_path, ("screw_direction", -1), ("t_startup", 0.004), ("t_sample", 0.006),
              ("thermo_every", 500), ("stats_every", 500))
     assert -LEAD * 600 / 60 < conveying_axial_velocity(tmp_path) < -0.005
 
@@ -71,8 +73,8 @@ def test_periodic_conserves_mass_and_loses_nothing(periodic_forward):
         assert np.all(block["escaped"] == 0)
     assert f"TSG-DONE escaped 0 particles {count}" in log
     # the element masses tile the periodic domain: their sum is the particle mass at every sample
-    sets = re.findall(r"set atom (\d+)\*(\d+) diameter (\S+) density (\S+)", fill)
-    total = sum((int(b) - int(a) + 1) * float(rho) * np.pi / 6 * float(d) ** 3 for a, b, d, rho in sets)
+    sets = re.findall(r"set atom (\d+)\*(\d+) diameter (\S+) density \$\{rho_p\}", fill)
+    total = sum((int(b) - int(a) + 1) * 1263 * np.pi / 6 * float(d) ** 3 for a, b, d in sets)
     stats = read_element_statistics(periodic_forward / "elements.txt")
     # elements.txt prints 6 significant digits per zone (fix ave/time), so agreement to ~1e-6
     np.testing.assert_allclose(stats.column("mass").sum(axis=1), total, rtol=5e-6)
@@ -86,6 +88,48 @@ def test_periodic_outputs_are_present_and_parseable(periodic_forward):
     stats = read_element_statistics(periodic_forward / "elements.txt")
     assert stats.values.shape[1] == 8
     assert np.all((stats.column("solid_fraction") >= 0) & (stats.column("solid_fraction") < 0.74))
+
+
+def test_fill_density_is_the_runs_rho_p(tmp_path):
+    # -v rho_p 1500 reaches the particles: the mass LIGGGHTS measures in the elements equals the
+    # fill's diameters at 1500 kg/m^3 (materials.in's 1263 would be 16 % lighter)
+    run_case("periodic", tmp_path, ("rho_p", 1500), ("t_startup", 1e-5), ("t_sample", 0.0004),
+             ("thermo_every", 50), ("stats_every", 50))
+    fill = (tmp_path / "fill.in").read_text()
+    sets = re.findall(r"set atom (\d+)\*(\d+) diameter (\S+) density \$\{rho_p\}", fill)
+    assert sum(int(b) - int(a) + 1 for a, b, _ in sets) == int(re.search(r"fill_count equal (\d+)", fill).group(1))
+    total = sum((int(b) - int(a) + 1) * 1500 * np.pi / 6 * float(d) ** 3 for a, b, d in sets)
+    stats = read_element_statistics(tmp_path / "elements.txt")
+    np.testing.assert_allclose(stats.column("mass").sum(axis=1), total, rtol=5e-6)
+    params = json.loads((tmp_path / "params.json").read_text())
+    assert params["rho_p"] == 1500.0 and params["variables"]["rho_p"] == "1500"
+    assert total == pytest.approx(2.3e-3, rel=0.05)    # the fill holds the hold-up mass at that density
+
+
+def run_lines(text: str) -> list[int]:
+    return [k for k, line in enumerate(text.splitlines()) if line.startswith("run ")]
+
+
+@pytest.mark.parametrize("phase", [0, 1], ids=["start-up", "sampling"])
+def test_periodic_stops_on_a_lost_particle_in_every_phase(periodic_forward, tmp_path, phase):
+    # the case file itself, with one fault injected into one run phase: after the first thermo
+    # chunk particle 1 gets 2 km/s towards +z and leaves the box within the next chunk; the run
+    # must stop on the lost atom, not go on with one particle fewer (each thermo_style resets
+    # `thermo_modify lost`: cases/include/thermo.in re-arms it for every phase)
+    text = (ROOT / "cases" / "in.tsg_periodic").read_text()
+    lines = text.splitlines()
+    lines[run_lines(text)[phase]] += ' "set atom 1 vz 2000"'
+    (tmp_path / "in.faulty").write_text("\n".join(lines) + "\n")
+    variables = json.loads((periodic_forward / "params.json").read_text())["variables"]
+    variables.update({"out_dir": str(tmp_path), "t_startup": 0.003, "t_sample": 0.003})
+    proc = subprocess.run(lmp_command("in.faulty", variables), cwd=tmp_path, capture_output=True,
+                          encoding="utf-8", errors="replace", env=lmp_environment(), timeout=600)
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    assert proc.returncode != 0, log[-2000:]
+    assert "ERROR: Lost atoms" in log and "TSG-DONE" not in log, log[-2000:]
+    # it stopped in the phase the fault was put in: only the sampling thermo has the sensor columns
+    headers = [line for line in log.splitlines() if line.startswith("Step ")]
+    assert ("massflow[1]" in headers[-1]) == (phase == 1), headers[-1]
 
 
 def test_var_changes_the_intended_parameter_only(periodic_forward, tmp_path):
