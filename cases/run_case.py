@@ -19,12 +19,12 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from tsg_analysis.liggghts_log import parse_thermo
-from tsg_analysis.run_files import (ELEMENT_TYPES, AnalysisInputError, read_element_statistics, read_massflow,
-                                    read_residence, read_zones)
+from tsg_analysis.run_files import ELEMENT_TYPES, AnalysisInputError, read_element_statistics, read_massflow, read_residence, read_zones
 from tsg_cases import free_space
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
@@ -35,7 +35,7 @@ CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiod
 # Scales. demo: coarse particles so that the periodic case gives per-element results in minutes on
 # 2 cores (docs/cases.md explains the choices); paper: the seed paper's 400 um particles. Both with
 # the mesh tolerance at 1 % of the smallest radius (demo 0.42 mm -> 4 um, paper 0.1 mm -> 1 um).
-SCALES = {
+SCALES: dict[str, dict[str, Any]] = {
     "demo": {"tolerance": 4e-6,
              "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},

@@ -21,7 +21,8 @@ from typing import Iterable, Mapping
 import numpy as np
 
 from tsg_analysis.liggghts_log import parse_thermo, parse_warnings
-from tsg_cases.launcher import errors as lmp_errors, lmp_command, lmp_environment, lmp_executable, mpi_command
+from tsg_cases.launcher import errors as lmp_errors
+from tsg_cases.launcher import lmp_command, lmp_environment, lmp_executable, mpi_command
 
 __all__ = ["LmpFailed", "LmpRun", "lmp_executable", "mpi_command", "run_lmp"]
 

@@ -7,8 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from .build import (DEFAULT_TOLERANCE, MAX_TOLERANCE, MeshQualityError, build_all, generate, resolve_config,
-                    write_geometry)
+from .build import DEFAULT_TOLERANCE, MAX_TOLERANCE, MeshQualityError, build_all, generate, resolve_config, write_geometry
 from .spec import SpecError, read_spec
 
 
