@@ -106,30 +106,44 @@ def test_fill_density_is_the_runs_rho_p(tmp_path):
     assert total == pytest.approx(2.3e-3, rel=0.05)    # the fill holds the hold-up mass at that density
 
 
-def run_lines(text: str) -> list[int]:
-    return [k for k, line in enumerate(text.splitlines()) if line.startswith("run ")]
+def inject_into_run(text: str, phase: int, command: str) -> str:
+    """The input with `command` added to the every-commands of its phase-th `run` (0-based; a run
+    command may continue over lines ending in &)."""
+    lines = text.splitlines()
+    starts = [k for k, line in enumerate(lines) if line.startswith("run ")]
+    end = starts[phase]
+    while lines[end].rstrip().endswith("&"):
+        end += 1
+    lines[end] += f' "{command}"'
+    return "\n".join(lines) + "\n"
 
 
-@pytest.mark.parametrize("phase", [0, 1], ids=["start-up", "sampling"])
-def test_periodic_stops_on_a_lost_particle_in_every_phase(periodic_forward, tmp_path, phase):
+@pytest.mark.parametrize("case,phase", [("periodic", 0), ("periodic", 1), ("nonperiodic", 0), ("full", 0), ("full", 1)],
+                         ids=["periodic-start-up", "periodic-sampling", "nonperiodic", "full-start-up", "full-sampling"])
+def test_every_phase_stops_on_a_lost_particle(request, tmp_path, case, phase):
     # the case file itself, with one fault injected into one run phase: after the first thermo
     # chunk particle 1 gets 2 km/s towards +z and leaves the box within the next chunk; the run
     # must stop on the lost atom, not go on with one particle fewer (each thermo_style resets
     # `thermo_modify lost`: cases/include/thermo.in re-arms it for every phase)
-    text = (ROOT / "cases" / "in.tsg_periodic").read_text()
-    lines = text.splitlines()
-    lines[run_lines(text)[phase]] += ' "set atom 1 vz 2000"'
-    (tmp_path / "in.faulty").write_text("\n".join(lines) + "\n")
-    variables = json.loads((periodic_forward / "params.json").read_text())["variables"]
-    variables.update({"out_dir": str(tmp_path), "t_startup": 0.003, "t_sample": 0.003})
+    earlier = request.getfixturevalue({"periodic": "periodic_forward", "nonperiodic": "nonperiodic_run",
+                                       "full": "full_steady_run"}[case])
+    text = (ROOT / "cases" / f"in.tsg_{case}").read_text()
+    (tmp_path / "in.faulty").write_text(inject_into_run(text, phase, "set atom 1 vz 2000"))
+    variables = json.loads((earlier / "params.json").read_text())["variables"]
+    variables["out_dir"] = str(tmp_path)
+    if case == "periodic":
+        variables.update({"t_startup": 0.003, "t_sample": 0.003})
     proc = subprocess.run(lmp_command("in.faulty", variables), cwd=tmp_path, capture_output=True,
                           encoding="utf-8", errors="replace", env=lmp_environment(), timeout=600)
     log = (tmp_path / "log.lammps").read_text(errors="replace")
     assert proc.returncode != 0, log[-2000:]
     assert "ERROR: Lost atoms" in log and "TSG-DONE" not in log, log[-2000:]
-    # it stopped in the phase the fault was put in: only the sampling thermo has the sensor columns
-    headers = [line for line in log.splitlines() if line.split()[:1] == ["Step"]]
-    assert ("massflow" in headers[-1]) == (phase == 1), headers[-1]
+    # it stopped in the phase the fault was put in
+    if case == "periodic":   # only the sampling thermo has the sensor columns
+        headers = [line for line in log.splitlines() if line.split()[:1] == ["Step"]]
+        assert ("massflow" in headers[-1]) == (phase == 1), headers[-1]
+    if case == "full":       # the sampling phase follows the steady state
+        assert ("TSG-STEADY" in log) == (phase == 1)
 
 
 def test_var_changes_the_intended_parameter_only(periodic_forward, tmp_path):
@@ -140,8 +154,25 @@ def test_var_changes_the_intended_parameter_only(periodic_forward, tmp_path):
     assert changed == {"mus_pg"} and float(variant["mus_pg"]) == 0.1
 
 
-def test_nonperiodic_generates_cohesive_particles_without_losses(tmp_path):
-    run_case("nonperiodic", tmp_path, ("t_run", 0.002), ("thermo_every", 500), ("stats_every", 500))
+@pytest.fixture(scope="module")
+def nonperiodic_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("nonperiodic")
+    run_case("nonperiodic", out, ("t_run", 0.002), ("thermo_every", 500), ("stats_every", 500))
+    return out
+
+
+@pytest.fixture(scope="module")
+def full_steady_run(tmp_path_factory):
+    # the steady-state branch with a tolerance that any positive outflow meets and both sensors
+    # inside the feed zone, so the branch is reached in milliseconds
+    out = tmp_path_factory.mktemp("full")
+    run_case("full", out, ("sensor_1", 0.004), ("sensor_2", 0.02), ("steady_tolerance", 1e6),
+             ("t_max_startup", 0.05), ("stats_every", 200), ("thermo_every", 100), ("t_sample", 0.0004))
+    return out
+
+
+def test_nonperiodic_generates_cohesive_particles_without_losses(nonperiodic_run):
+    tmp_path = nonperiodic_run
     log = (tmp_path / "log.lammps").read_text()
     assert parameters(log)["cohesion"] == "1"
     assert "pair_style gran model eepa" in (ROOT / "cases" / "include" / "pair_eepa.in").read_text()
@@ -190,12 +221,9 @@ def test_analysis_report_on_a_real_case_run(periodic_forward, tmp_path):
     assert "element profiles" not in missing and "zones" not in missing, summary["not_produced"]
 
 
-def test_full_case_steady_branch_writes_restart_and_holdup(tmp_path):
-    # the steady-state branch with a tolerance that any positive outflow meets and both sensors
-    # inside the feed zone, so the branch is reached in milliseconds: restart, hold-up summary,
-    # sampling window with element statistics
-    run_case("full", tmp_path, ("sensor_1", 0.004), ("sensor_2", 0.02), ("steady_tolerance", 1e6),
-             ("t_max_startup", 0.05), ("stats_every", 200), ("thermo_every", 100), ("t_sample", 0.0004))
+def test_full_case_steady_branch_writes_restart_and_holdup(full_steady_run):
+    # restart, hold-up summary, sampling window with element statistics
+    tmp_path = full_steady_run
     log = (tmp_path / "log.lammps").read_text(errors="replace")
     steady = re.search(r"TSG-STEADY t (\S+) holdup (\S+)", log)
     assert steady and float(steady.group(2)) > 0
