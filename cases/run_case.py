@@ -61,7 +61,8 @@ def build_meshes(config: str, tolerance: float) -> Path:
         proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), "--tolerance", str(tolerance)],
                               capture_output=True, text=True)
         if proc.returncode != 0:
-            raise UserError(f"building the meshes {out} failed: {proc.stderr.strip().splitlines()[-1:]}")
+            last = proc.stderr.strip().splitlines()[-1:] or ["no message"]
+            raise UserError(f"building the meshes {out} failed: {last[0]}")
     return out
 
 
@@ -243,7 +244,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parse(argv)
     try:
         return run(args)
-    except (UserError, ParameterError, LauncherError) as problem:
+    except (UserError, ParameterError, LauncherError, OSError) as problem:
         if args.debug:
             raise
         print(f"tsg-run-case: error: {problem}", file=sys.stderr)

@@ -105,6 +105,7 @@ CASES: list[BadInput] = [
     *refused("periodic", "lambda_p", 1, ("[0, 1)",), "the EEPA time step scales with sqrt(1 - lambda_p)"),
     *refused("nonperiodic", "t_run", 0, ("> 0",), "a run of no time"),
     *refused("nonperiodic", "feed_rate_kg_h", 0, ("> 0",), "a feed that feeds nothing"),
+    *refused("nonperiodic", "psd_sigma", 0.3, ("0.05 or 0.2",), "only the shipped size distributions have an include"),
     *refused("full", "steady_tolerance", 0, ("> 0",), "no run ever meets a zero imbalance"),
     *refused("full", "t_max_startup", -1, ("> 0",), "a negative start-up limit"),
 ]
