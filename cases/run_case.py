@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from tsg_analysis.liggghts_log import parse_thermo
+from tsg_analysis.profiles import average_element_statistics
 from tsg_analysis.run_files import ELEMENT_TYPES, AnalysisInputError, read_element_statistics, read_massflow, read_residence, read_zones
 from tsg_cases import free_space
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
@@ -89,14 +90,16 @@ def summary(out: Path, zones_file: Path) -> str:
             raise AnalysisInputError(f"{out / 'massflow.txt'}: no complete window yet")
         return [f"  MFS_{k + 1}  {value:9.3f}" for k, value in enumerate(flow.flow.mean(axis=0))]
 
+    def element_averages() -> dict[str, np.ndarray]:
+        # the analysis package's one mass-weighted per-element average, over the whole window
+        return average_element_statistics(read_element_statistics(out / "elements.txt"), zones, None)[0]
+
     def residence() -> list[str]:
         # Two estimates: the records of complete passes/exits (needs a window longer than a pass),
         # and hold-up over throughput per element, τ_e = L_e / v̄_x,e (Little's law, steady state).
         records = read_residence(out / "residence.txt")
         complete = np.isin(records.exit_reason, ("outlet", "pass"))
-        stats = read_element_statistics(out / "elements.txt")
-        mass = stats.column("mass").sum(axis=0)
-        axial = (stats.column("mean_axial_velocity") * stats.column("mass")).sum(axis=0) / np.where(mass > 0, mass, 1)
+        axial = element_averages()["mean_axial_velocity"]
         length = zones.x_end - zones.x_start
         little = np.where(axial > 0, length / np.where(axial > 0, axial, 1), np.inf)
         rows = [f"  {'':<12}{'records':>9}{'L/v':>9}   ({int(complete.sum())} complete records)"]
@@ -109,10 +112,8 @@ def summary(out: Path, zones_file: Path) -> str:
         return rows
 
     def elements() -> list[str]:
-        stats = read_element_statistics(out / "elements.txt")
-        solid = stats.column("solid_fraction").mean(axis=0)
-        mass = stats.column("mass").sum(axis=0)
-        axial = (stats.column("mean_axial_velocity") * stats.column("mass")).sum(axis=0) / np.where(mass > 0, mass, 1)
+        averages = element_averages()
+        solid, axial = averages["solid_fraction"], averages["mean_axial_velocity"]
         return [f"  {label:<5}{kind:<12}{fraction:>16.4f}{velocity:>22.4f}"
                 for label, kind, fraction, velocity in zip(zones.labels, zones.kind, solid, axial)]
 
