@@ -1,36 +1,42 @@
 """Prepare and run one granulator case, then print its summary table.
 
-    .venv/bin/python cases/run_case.py periodic --scale demo --out runs/periodic-demo [--np 2] [-v name value ...]
+    tsg-run-case periodic --scale demo --out runs/periodic-demo [--np 2] [-v name value ...] [--debug]
 
 Preparation: builds the meshes the scale needs (meshes/, gmsh) and, for the periodic case, places
 the hold-up mass in the free space (cases/free_space.py). Then runs `lmp -in cases/in.tsg_<case>`
 (under mpirun with --np > 1) with the scale's variables plus yours (-v overrides any of them), and
 prints mass flow at both sensors, mean residence time per element type and the time-averaged solid
-fraction per element. Exit status 1 when lmp fails (the error is printed) or when particles escaped.
+fraction per element. Exit status 1 when lmp fails (the error is printed) or when particles escaped;
+2 for a bad option or variable (one line naming it, its value and what is allowed), checked before
+any preparation. The run directory gets params.json: every parameter of the run (docs/cases.md).
 """
 from __future__ import annotations
 
 import argparse
-import os
+import json
 import shutil
 import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "analysis"), str(ROOT / "meshes"), str(ROOT / "cases")]
-from tsg_analysis.liggghts_log import parse_errors, parse_thermo  # noqa: E402
-from tsg_analysis.run_files import (ELEMENT_TYPES, AnalysisInputError, read_element_statistics,  # noqa: E402
-                                    read_massflow, read_residence, read_zones)
+from tsg_analysis.liggghts_log import parse_thermo
+from tsg_analysis.profiles import average_element_statistics
+from tsg_analysis.run_files import ELEMENT_TYPES, AnalysisInputError, read_element_statistics, read_massflow, read_residence, read_zones
+from tsg_cases import free_space
+from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
+from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
+from tsg_meshes.build import tolerance_tag
+from tsg_meshes.machine import MACHINE_FILE
 
 CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiodic", "full": "consigma1-full"}
 # Scales. demo: coarse particles so that the periodic case gives per-element results in minutes on
 # 2 cores (docs/cases.md explains the choices); paper: the seed paper's 400 um particles. Both with
 # the mesh tolerance at 1 % of the smallest radius (demo 0.42 mm -> 4 um, paper 0.1 mm -> 1 um).
-SCALES = {
+SCALES: dict[str, dict[str, Any]] = {
     "demo": {"tolerance": 4e-6,
              "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},
@@ -46,20 +52,24 @@ SCALES = {
 DEFAULT_HOLDUP_G = 2.3
 
 
+class UserError(Exception):
+    """A mistake in the options: one line for the user, no traceback (unless --debug)."""
+
+
 def build_meshes(config: str, tolerance: float) -> Path:
-    from tsg_meshes.build import tolerance_tag
     out = ROOT / "build" / "meshes" / f"{config}-{tolerance_tag(tolerance)}"
-    if not (out / "zones.txt").is_file():
-        subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), "--tolerance", str(tolerance)],
-                       check=True, env=dict(os.environ, PYTHONPATH=str(ROOT / "meshes")))
+    if not (out / "zones.txt").is_file() or not (out / MACHINE_FILE).is_file():
+        proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), "--tolerance", str(tolerance)],
+                              capture_output=True, text=True)
+        if proc.returncode != 0:
+            last = proc.stderr.strip().splitlines()[-1:] or ["no message"]
+            raise UserError(f"building the meshes {out} failed: {last[0]}")
     return out
 
 
-def lmp_command(np_ranks: int) -> list[str]:
-    lmp = os.environ.get("TSG_LMP", str(ROOT / "build" / "lmp"))
-    if np_ranks <= 1:
-        return [lmp]
-    return ["mpirun", "-np", str(np_ranks), "--oversubscribe", "--allow-run-as-root", "--bind-to", "none", lmp]
+def git_commit() -> str | None:
+    proc = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True)
+    return proc.stdout.strip() if proc.returncode == 0 else None
 
 
 def summary(out: Path, zones_file: Path) -> str:
@@ -80,14 +90,16 @@ def summary(out: Path, zones_file: Path) -> str:
             raise AnalysisInputError(f"{out / 'massflow.txt'}: no complete window yet")
         return [f"  MFS_{k + 1}  {value:9.3f}" for k, value in enumerate(flow.flow.mean(axis=0))]
 
+    def element_averages() -> dict[str, np.ndarray]:
+        # the analysis package's one mass-weighted per-element average, over the whole window
+        return average_element_statistics(read_element_statistics(out / "elements.txt"), zones, None)[0]
+
     def residence() -> list[str]:
         # Two estimates: the records of complete passes/exits (needs a window longer than a pass),
         # and hold-up over throughput per element, τ_e = L_e / v̄_x,e (Little's law, steady state).
         records = read_residence(out / "residence.txt")
         complete = np.isin(records.exit_reason, ("outlet", "pass"))
-        stats = read_element_statistics(out / "elements.txt")
-        mass = stats.column("mass").sum(axis=0)
-        axial = (stats.column("mean_axial_velocity") * stats.column("mass")).sum(axis=0) / np.where(mass > 0, mass, 1)
+        axial = element_averages()["mean_axial_velocity"]
         length = zones.x_end - zones.x_start
         little = np.where(axial > 0, length / np.where(axial > 0, axial, 1), np.inf)
         rows = [f"  {'':<12}{'records':>9}{'L/v':>9}   ({int(complete.sum())} complete records)"]
@@ -100,10 +112,8 @@ def summary(out: Path, zones_file: Path) -> str:
         return rows
 
     def elements() -> list[str]:
-        stats = read_element_statistics(out / "elements.txt")
-        solid = stats.column("solid_fraction").mean(axis=0)
-        mass = stats.column("mass").sum(axis=0)
-        axial = (stats.column("mean_axial_velocity") * stats.column("mass")).sum(axis=0) / np.where(mass > 0, mass, 1)
+        averages = element_averages()
+        solid, axial = averages["solid_fraction"], averages["mean_axial_velocity"]
         return [f"  {label:<5}{kind:<12}{fraction:>16.4f}{velocity:>22.4f}"
                 for label, kind, fraction, velocity in zip(zones.labels, zones.kind, solid, axial)]
 
@@ -113,8 +123,9 @@ def summary(out: Path, zones_file: Path) -> str:
     return "\n".join(lines)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def parse(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(prog="tsg-run-case", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("case", choices=sorted(CONFIGS))
     parser.add_argument("--scale", choices=sorted(SCALES), default="demo")
     parser.add_argument("--out", type=Path, required=True)
@@ -126,40 +137,74 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--mesh-tolerance", type=float,
                         help="mesh tolerance in m instead of the scale's (1 %% of the smallest radius)")
     parser.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"))
-    args = parser.parse_args(argv)
+    parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
+    return parser.parse_args(argv)
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """Every option checked before any expensive preparation (meshes, fill)."""
     if args.mesh_tolerance is not None and not 0.0 < args.mesh_tolerance < 1e-3:
-        parser.error(f"--mesh-tolerance {args.mesh_tolerance} is not allowed: a length in m, 0 < tolerance < 1e-3")
+        raise UserError(f"--mesh-tolerance {args.mesh_tolerance} is not allowed: a length in m, 0 < tolerance < 1e-3")
+    if args.holdup_g is not None and not 0.0 < args.holdup_g < 100.0:
+        raise UserError(f"--holdup-g {args.holdup_g} is not allowed: hold-up mass in g, 0 < mass < 100")
+    if args.np < 1:
+        raise UserError(f"--np {args.np} is not allowed: number of MPI ranks, >= 1")
+    if not 0 <= args.seed < 2**32:
+        raise UserError(f"--seed {args.seed} is not allowed: 0 <= seed < 2^32")
+    if args.out.exists() and not args.out.is_dir():
+        raise UserError(f"--out {args.out}: is a file, not a directory")
+
+
+def feed_position(feed_at: str, zones) -> float:
+    if feed_at == "inlet":
+        return 0.002
+    number = feed_at[8:] if feed_at.startswith("element:") else ""
+    if number.isdigit() and 1 <= int(number) <= len(zones):
+        return float(zones.x_start[int(number) - 1])
+    raise UserError(f"--feed-at {feed_at} is not allowed: use 'inlet' or 'element:N' with 1 <= N <= {len(zones)}")
+
+
+def run(args: argparse.Namespace) -> int:
+    check_options(args)
+    given = dict(args.var)
+    check_names(given, args.case)
     scale = SCALES[args.scale]
-    variables = {**scale["vars"], **scale["times"][args.case], **dict(args.var)}
+    variables: dict[str, object] = {**scale["vars"], **scale["times"][args.case], **given}
+    # the values the run will use: the case's defaults under the scale's and the user's
+    effective = {**defined_variables(args.case), **{k: str(v) for k, v in variables.items()}}
+    check_values(effective, args.case, given)
+    input_file = case_input(args.case)
+    command_prefix = lmp_command(input_file, nprocs=args.np)   # checks lmp (and mpirun) before the fill
     out = args.out.resolve()
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        (out / ".tsg-write-test").touch()
+        (out / ".tsg-write-test").unlink()
+    except OSError as problem:
+        raise UserError(f"--out {args.out}: cannot write there ({problem.strerror})") from None
+
     mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"])
     zones = read_zones(mesh_dir / "zones.txt")
     length = float(zones.x_end[-1])
-    import free_space
-    d_mean = float(variables["d_mean"])
+    d_mean = float(effective["d_mean"])
+    rho_p = float(effective["rho_p"])        # one source: materials.in's default or -v rho_p
     if args.case == "periodic":
         holdup = (args.holdup_g or DEFAULT_HOLDUP_G) * 1e-3
-        centres, diameters = free_space.fill(mesh_dir, holdup, d_mean, float(variables.get("psd_sigma", 0.05)),
-                                             1263.0, (0.0, length), True, args.seed)
-        (out / "fill.in").write_text(free_space.fill_include(centres, diameters, 1263.0, str(mesh_dir)))
+        centres, diameters = free_space.fill(mesh_dir, holdup, d_mean, float(effective.get("psd_sigma", 0.05)),
+                                             rho_p, (0.0, length), True, args.seed)
+        (out / "fill.in").write_text(free_space.fill_include(centres, diameters, rho_p, str(mesh_dir)))
         variables["fill_file"] = out / "fill.in"
         what = f"{len(diameters)} particles ({holdup * 1e3:.3g} g)"
     else:
-        if args.feed_at == "inlet":
-            x0 = 0.002
-        elif args.feed_at.startswith("element:") and args.feed_at[8:].isdigit() \
-                and 1 <= int(args.feed_at[8:]) <= len(zones):
-            x0 = float(zones.x_start[int(args.feed_at[8:]) - 1])
-        else:
-            parser.error(f"--feed-at {args.feed_at}: use 'inlet' or 'element:N' with 1 <= N <= {len(zones)}")
+        x0 = feed_position(args.feed_at, zones)
         side = 1.6 * 1.5 * d_mean          # cube edge: 1.6 x the largest particle of the PSD
         corners = free_space.feed_boxes(mesh_dir, (x0, x0 + 0.028), side, 0.1 * d_mean)
         (out / "feed.in").write_text(free_space.feed_include(corners, side, str(mesh_dir)))
         variables["feed_file"] = out / "feed.in"
         what = f"feed region of {len(corners)} cubes at x = {x0 * 1e3:.1f}-{(x0 + 0.028) * 1e3:.1f} mm"
-    # the run directory is self-describing for tsg_analysis: zones and screw surfaces next to the outputs
-    shutil.copyfile(mesh_dir / "zones.txt", out / "zones.txt")
+    # the run directory is self-describing for tsg_analysis: zones, machine geometry, screw surfaces
+    for name in ("zones.txt", MACHINE_FILE):
+        shutil.copyfile(mesh_dir / name, out / name)
     (out / "meshes").mkdir(exist_ok=True)
     for name in ("screw1.stl", "screw2.stl"):
         link = out / "meshes" / name
@@ -169,26 +214,42 @@ def main(argv: list[str] | None = None) -> int:
                       "domain_length": repr(length)})
     if args.np > 1:
         variables.setdefault("procs_x", args.np)
-    command = lmp_command(args.np) + ["-in", str(ROOT / "cases" / f"in.tsg_{args.case}"), "-log", "log.lammps", "-echo", "none"]
+    effective.update({k: str(v) for k, v in variables.items()})
+    (out / "params.json").write_text(json.dumps({
+        "case": args.case, "scale": args.scale, "seed": args.seed, "np": args.np,
+        "variables": {k: str(v) for k, v in variables.items()},
+        "rpm": float(effective["rpm"]), "screw_direction": int(float(effective["screw_direction"])),
+        "rho_p": rho_p, "d_mean": d_mean, "mesh_dir": str(mesh_dir), "zones_file": str(out / "zones.txt"),
+        "machine_file": str(out / MACHINE_FILE), "git_commit": git_commit()}, indent=1) + "\n")
+    command = command_prefix
     for name, value in variables.items():
         command += ["-var", name, str(value)]
     print(f"[run] {args.case} case, {args.scale} scale: {what}, meshes {mesh_dir.name}, output {out}", flush=True)
     start = time.perf_counter()
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     with open(out / "screen.txt", "w") as screen:
-        proc = subprocess.run(command, cwd=out, stdout=screen, stderr=subprocess.STDOUT, env=env)
+        proc = subprocess.run(command, cwd=out, stdout=screen, stderr=subprocess.STDOUT, env=lmp_environment())
     wall = time.perf_counter() - start
-    log = (out / "log.lammps").read_text(errors="replace") if (out / "log.lammps").exists() else ""
     if proc.returncode != 0:
-        errors = parse_errors(log + (out / "screen.txt").read_text(errors="replace"))
-        print(f"[run] lmp failed (exit {proc.returncode}): {errors[-1] if errors else 'see ' + str(out / 'screen.txt')}",
-              file=sys.stderr)
+        error = first_error(out)
+        print(f"[run] lmp failed (exit {proc.returncode}): {error or 'see ' + str(out / 'screen.txt')}", file=sys.stderr)
         return 1
+    log = (out / "log.lammps").read_text(errors="replace")
     thermo = parse_thermo(log)
     steps = int(sum(block["Step"][-1] - block["Step"][0] for block in thermo))
     print(f"[run] done in {wall:.0f} s ({steps} steps, {wall / max(steps, 1) * 1e3:.2f} ms/step)")
     print(summary(out, mesh_dir / "zones.txt"))
     return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse(argv)
+    try:
+        return run(args)
+    except (UserError, ParameterError, LauncherError, OSError) as problem:
+        if args.debug:
+            raise
+        print(f"tsg-run-case: error: {problem}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -1,15 +1,16 @@
 """Sensitivity matrix of the seed paper as run directories: write, run (resumable), status.
 
-    python cases/sweep.py write SWEEP_DIR [--scale paper|demo] [--np N] [-v name value ...]
-    python cases/sweep.py run SWEEP_DIR [--only NAME ...]      # locally, one after the other
-    python cases/sweep.py status SWEEP_DIR
+    tsg-sweep write SWEEP_DIR [--scale paper|demo] [--np N] [-v name value ...]
+    tsg-sweep run SWEEP_DIR [--only NAME ...]      # locally, one after the other
+    tsg-sweep status SWEEP_DIR
     sbatch SWEEP_DIR/sweep.slurm                               # on a cluster: one array task per run
 
 The matrix (periodic case): the Table 3 reference; Table 4's univariate variations (restitution
 0.1 and 0.9, static friction 0.1, rolling friction 0.2, relative standard deviation 0.2, high
 cohesion), each applied to particle–particle and particle–geometry alike as the paper does; and
-the particle-size series of Section 2.4 (mean diameter 200–1500 um, same mass). Each run directory
-holds `params.json`, `run.sh` (the local command) and, once run, the case outputs and a state
+the particle-size series of Section 2.4 (mean diameter 200–1500 um, same mass). Overrides (-v) are
+checked against the periodic case's variables and value rules when written. Each run directory
+holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once run, the case outputs and a state
 marker: RUNNING (with the process id), DONE or FAILED (with the exit status).
 """
 from __future__ import annotations
@@ -22,7 +23,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from tsg_cases.case_parameters import ParameterError, check_names, check_values, defined_variables
 
 BOTH = ("pp", "pg")   # Table 4: χ, μs and μr apply to both particle–particle and particle–geometry
 
@@ -41,15 +42,19 @@ def matrix() -> dict[str, dict[str, object]]:
 
 
 def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str]) -> list[Path]:
+    check_names(overrides, "periodic")
+    for variables in matrix().values():
+        merged = {**{k: str(v) for k, v in variables.items()}, **overrides}
+        check_values({**defined_variables("periodic"), **merged}, "periodic", overrides)
     sweep.mkdir(parents=True, exist_ok=True)
     names = []
     for name, variables in matrix().items():
         run_dir = sweep / name
         run_dir.mkdir(exist_ok=True)
         merged = {**{k: str(v) for k, v in variables.items()}, **overrides}
-        (run_dir / "params.json").write_text(json.dumps({"case": "periodic", "scale": scale, "vars": merged}, indent=1))
-        python = shlex.quote(str(ROOT / ".venv" / "bin" / "python"))
-        runner = shlex.quote(str(ROOT / "cases" / "run_case.py"))
+        (run_dir / "sweep.json").write_text(json.dumps({"case": "periodic", "scale": scale, "vars": merged}, indent=1))
+        python = shlex.quote(sys.executable)
+        runner = "-m tsg_cases.run_case"
         options = " ".join(f"-v {shlex.quote(k)} {shlex.quote(v)}" for k, v in merged.items())
         (run_dir / "run.sh").write_text(
             "#!/usr/bin/env bash\n# One run of the sweep; its state goes to RUNNING / DONE / FAILED here.\n"
@@ -88,12 +93,12 @@ def state(run_dir: Path) -> str:
 def run_dirs(sweep: Path) -> list[Path]:
     listing = sweep / "runs.txt"
     if not listing.is_file():
-        raise SystemExit(f"{sweep} is not a sweep directory (no runs.txt): write it first")
+        raise ParameterError(f"{sweep} is not a sweep directory (no runs.txt): write it first")
     return [sweep / name for name in listing.read_text().split()]
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(prog="tsg-sweep", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     w = sub.add_parser("write")
     w.add_argument("sweep", type=Path)
@@ -106,10 +111,23 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("--only", nargs="*", default=None)
     s = sub.add_parser("status")
     s.add_argument("sweep", type=Path)
+    parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
     args = parser.parse_args(argv)
+    try:
+        return run(args, parser)
+    except (ParameterError, OSError) as problem:
+        if args.debug:
+            raise
+        print(f"tsg-sweep: error: {problem}", file=sys.stderr)
+        return 2
+
+
+def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     if args.command == "write":
+        if args.np < 1:
+            raise ParameterError(f"--np {args.np} is not allowed: number of MPI ranks per run, >= 1")
         dirs = write(args.sweep, args.scale, args.np, dict(args.var))
-        print(f"{len(dirs)} runs written to {args.sweep} (run: cases/sweep.py run {args.sweep}; "
+        print(f"{len(dirs)} runs written to {args.sweep} (run: tsg-sweep run {args.sweep}; "
               f"cluster: sbatch {args.sweep / 'sweep.slurm'})")
         return 0
     dirs = run_dirs(args.sweep)

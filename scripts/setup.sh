@@ -57,13 +57,17 @@ fi
 current_step="Python virtual environment (.venv)"
 step "$current_step"
 stamp=".venv/.requirements.sha256"
-want="$(sha256sum requirements.txt | cut -d' ' -f1)"
+want="$(cat requirements.txt pyproject.toml | sha256sum | cut -d' ' -f1)"
 if [ -x .venv/bin/python ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then
-  echo ".venv is up to date with requirements.txt"
+  echo ".venv is up to date with requirements.txt and pyproject.toml"
 else
   [ -x .venv/bin/python ] || /usr/bin/python3 -m venv .venv || fail "python3 -m venv failed (apt-get install python3-venv)"
   .venv/bin/python -m pip install -q --upgrade pip || fail "pip could not upgrade itself (no network?). Re-run to resume."
   .venv/bin/python -m pip install -q -r requirements.txt || fail "pip install -r requirements.txt failed. Re-run to resume."
+  # the project's packages (tsg_analysis, tsg_meshes, tsg_cases) and their commands (tsg-run-case,
+  # tsg-meshes, ...), editable: edits under analysis/, meshes/ and cases/ take effect at once
+  .venv/bin/python -m pip install -q --no-deps -e . \
+    || fail "pip install -e . failed (see pyproject.toml). Re-run to resume."
   echo "$want" > "$stamp"
   echo ".venv ready"
 fi
@@ -91,7 +95,7 @@ if [ -f "$mesh_stamp" ] && [ "$(cat "$mesh_stamp")" = "$mesh_want" ]; then
   echo "meshes in $build_dir/meshes are up to date with meshes/"
 else
   rm -rf "$build_dir/meshes"
-  PYTHONPATH="$root/meshes" .venv/bin/python -m tsg_meshes build-all "$build_dir/meshes" \
+  .venv/bin/python -m tsg_meshes build-all "$build_dir/meshes" \
     || fail "mesh generation failed (see the message above)"
   echo "$mesh_want" > "$mesh_stamp"
 fi

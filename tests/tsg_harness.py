@@ -1,4 +1,5 @@
-"""Run our `lmp` on an input in a scratch directory and read back what it did.
+"""Run our `lmp` on an input in a scratch directory and read back what it did: the test suite's
+name for the project's one launcher, tsg_cases.launcher (installed by the set-up).
 
 Used by every LIGGGHTS-level test:
 
@@ -10,117 +11,6 @@ Environment (set by ctest, see tests/CMakeLists.txt): TSG_LMP (the executable), 
 """
 from __future__ import annotations
 
-import os
-import re
-import shutil
-import subprocess
-from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Iterable, Mapping
+from tsg_cases.launcher import WARNINGS_THAT_MATTER, LmpFailed, LmpRun, lmp_executable, mpi_command, run_lmp
 
-import numpy as np
-
-from tsg_analysis.liggghts_log import parse_errors, parse_thermo, parse_warnings
-
-# Warnings that make a run untrustworthy. Tests may allow others explicitly.
-WARNINGS_THAT_MATTER = (
-    re.compile(r"not located in any whitelist"),          # contact-model slow path
-    re.compile(r"[Ll]ost atoms"),
-    re.compile(r"[Mm]esh"),                                # any mesh-quality / mesh-geometry warning
-    re.compile(r"angle", re.IGNORECASE),
-    re.compile(r"neighbo", re.IGNORECASE),
-    re.compile(r"time ?step", re.IGNORECASE),
-    re.compile(r"overlap", re.IGNORECASE),
-)
-
-class LmpFailed(AssertionError):
-    """lmp exited with an error, or a run contains a warning that matters."""
-
-
-def lmp_executable() -> str:
-    exe = os.environ.get("TSG_LMP")
-    if not exe:
-        root = Path(__file__).resolve().parents[1]
-        exe = str(root / "build" / "lmp")
-    if not Path(exe).is_file():
-        raise FileNotFoundError(f"lmp executable not found at {exe} (set TSG_LMP or build the project)")
-    return exe
-
-
-def mpi_command(nprocs: int) -> list[str]:
-    """mpirun prefix for nprocs ranks (root and oversubscription handled here)."""
-    launcher = os.environ.get("TSG_MPIEXEC") or shutil.which("mpirun") or shutil.which("mpiexec")
-    if not launcher:
-        raise FileNotFoundError("mpirun not found (install openmpi-bin)")
-    return [launcher, "-np", str(nprocs), "--oversubscribe", "--allow-run-as-root", "--bind-to", "none"]
-
-
-@dataclass
-class LmpRun:
-    workdir: Path
-    returncode: int
-    stdout: str
-    stderr: str
-    log: str
-    thermo: list[dict[str, np.ndarray]] = field(default_factory=list)
-    warnings: list[str] = field(default_factory=list)
-    errors: list[str] = field(default_factory=list)
-
-    def warnings_that_matter(self, allow: Iterable[str] = ()) -> list[str]:
-        allowed = [re.compile(a) for a in allow]
-        return [w for w in self.warnings
-                if any(p.search(w) for p in WARNINGS_THAT_MATTER)
-                and not any(a.search(w) for a in allowed)]
-
-    def assert_clean(self, allow: Iterable[str] = ()) -> None:
-        bad = self.warnings_that_matter(allow)
-        if bad:
-            raise LmpFailed(f"lmp run in {self.workdir} emitted warnings that matter:\n  " + "\n  ".join(bad))
-
-    def last(self, column: str) -> float:
-        return float(self.thermo[-1][column][-1])
-
-
-def run_lmp(input_text: str, workdir: Path | str, nprocs: int = 1,
-            variables: Mapping[str, object] | None = None,
-            files: Mapping[str, str | bytes | Path] | None = None,
-            timeout: float = 600, expect_error: bool = False,
-            input_name: str = "in.test") -> LmpRun:
-    """Run lmp on `input_text` in `workdir`.
-
-    files: extra files to place in workdir (name -> text, bytes, or a Path to copy).
-    Raises LmpFailed when lmp fails (unless expect_error) or when expect_error and it succeeds.
-    """
-    workdir = Path(workdir)
-    workdir.mkdir(parents=True, exist_ok=True)
-    for name, content in (files or {}).items():
-        target = workdir / name
-        target.parent.mkdir(parents=True, exist_ok=True)
-        if isinstance(content, Path):
-            shutil.copyfile(content, target)
-        elif isinstance(content, bytes):
-            target.write_bytes(content)
-        else:
-            target.write_text(content)
-    (workdir / input_name).write_text(input_text)
-
-    cmd = [lmp_executable(), "-in", input_name, "-log", "log.lammps", "-echo", "none"]
-    for key, value in (variables or {}).items():
-        cmd += ["-var", str(key), str(value)]
-    if nprocs > 1:
-        cmd = mpi_command(nprocs) + cmd
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    proc = subprocess.run(cmd, cwd=workdir, capture_output=True, timeout=timeout, env=env,
-                          encoding="utf-8", errors="replace")  # LIGGGHTS may print stray bytes
-    log_path = workdir / "log.lammps"
-    log = log_path.read_text(errors="replace") if log_path.exists() else ""
-    run = LmpRun(workdir=workdir, returncode=proc.returncode, stdout=proc.stdout, stderr=proc.stderr,
-                 log=log, thermo=parse_thermo(log), warnings=parse_warnings(log),
-                 errors=parse_errors(log + "\n" + proc.stdout + "\n" + proc.stderr))
-    if expect_error:
-        if proc.returncode == 0:
-            raise LmpFailed(f"lmp was expected to fail but succeeded in {workdir}")
-    elif proc.returncode != 0:
-        tail = "\n".join((log or proc.stdout).splitlines()[-25:])
-        raise LmpFailed(f"lmp failed (exit {proc.returncode}) in {workdir}:\n{tail}\nstderr:\n{proc.stderr[-3000:]}")
-    return run
+__all__ = ["WARNINGS_THAT_MATTER", "LmpFailed", "LmpRun", "lmp_executable", "mpi_command", "run_lmp"]

@@ -2,20 +2,38 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
 
-from .build import (DEFAULT_TOLERANCE, MAX_TOLERANCE, MeshQualityError, build_all, generate, resolve_config,
-                    write_geometry)
+from .build import DEFAULT_TOLERANCE, MAX_TOLERANCE, MeshQualityError, build_all, generate, resolve_config, write_geometry
 from .spec import SpecError, read_spec
 
 
 def tolerance(text: str) -> float:
-    value = float(text)
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text} is not a number (a length in m)") from None
     if not 0 < value <= MAX_TOLERANCE:
         raise argparse.ArgumentTypeError(f"{text} m is outside (0, {MAX_TOLERANCE:g}] m")
     return value
+
+
+class OutputError(OSError):
+    """An output directory that cannot be written."""
+
+
+def check_output_dir(path: Path) -> None:
+    """Before any work: the output directory must be (or become) a writable directory."""
+    for parent in (path, *path.parents):
+        if parent.exists():
+            if not parent.is_dir():
+                raise OutputError(f"output directory {path}: {parent} is a file, not a directory")
+            if not os.access(parent, os.W_OK | os.X_OK):
+                raise OutputError(f"output directory {path}: {parent} is not writable")
+            return
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -30,10 +48,15 @@ def main(argv: list[str] | None = None) -> int:
     everything.add_argument("outdir", type=Path)
     render = commands.add_parser("render", help="PNG renders of element types and assembled screws")
     render.add_argument("imgdir", type=Path)
+    parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
     args = parser.parse_args(argv)
 
     started = time.perf_counter()
     try:
+        for name in ("outdir", "imgdir"):
+            target = getattr(args, name, None)
+            if target is not None:
+                check_output_dir(target)
         if args.command == "build":
             geometry = generate(read_spec(resolve_config(args.config)), args.tolerance)
             written = write_geometry(geometry, args.outdir)
@@ -42,7 +65,9 @@ def main(argv: list[str] | None = None) -> int:
         else:
             from .render import render_all  # pyvista is only needed here
             written = render_all(args.imgdir)
-    except (SpecError, FileNotFoundError, MeshQualityError) as error:
+    except (SpecError, MeshQualityError, OSError) as error:
+        if args.debug:
+            raise
         print(f"tsg_meshes: error: {error}", file=sys.stderr)
         return 2
     for path in written:

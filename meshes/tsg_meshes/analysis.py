@@ -93,7 +93,7 @@ def disjoint(segments_a: np.ndarray, segments_b: np.ndarray) -> bool:
 
 def contained(inner: np.ndarray, outer: np.ndarray) -> bool:
     """The region of `inner` lies inside the region of `outer` without touching its boundary."""
-    return inside(inner[:, 0], outer).all() and not any_crossing(inner, outer)
+    return bool(inside(inner[:, 0], outer).all()) and not any_crossing(inner, outer)
 
 
 def corotation_clearances(screw1: np.ndarray, screw2: np.ndarray, barrel: np.ndarray,

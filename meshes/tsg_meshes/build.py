@@ -1,5 +1,5 @@
 """Turn a screw configuration into the files a LIGGGHTS case loads: screw1.stl, screw2.stl,
-barrel.stl (ASCII, metres) and zones.txt."""
+barrel.stl (ASCII, metres), zones.txt and machine.in (machine geometry, machine.py)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .barrel import build_barrel
+from .machine import MACHINE_FILE, machine_text
 from .profile import CENTRE_DISTANCE, ScrewProfile, TwinBore
 from .screw import build_screw, sample_profile
 from .spec import ROTATION_SENSE, ScrewConfiguration, read_spec
@@ -89,7 +90,9 @@ def write_geometry(geometry: BuiltGeometry, outdir: Path | str) -> list[Path]:
         written.append(outdir / name)
     zones = outdir / "zones.txt"
     zones.write_text(zones_text(geometry), encoding="ascii")
-    return written + [zones]
+    machine = outdir / MACHINE_FILE
+    machine.write_text(machine_text(), encoding="ascii")
+    return written + [zones, machine]
 
 
 def free_area(profile: ScrewProfile = ScrewProfile(), bore: TwinBore = TwinBore()) -> float:

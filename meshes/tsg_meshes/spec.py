@@ -105,7 +105,15 @@ def parse_spec(text: str, source: str = "<spec>") -> ScrewConfiguration:
 
 def read_spec(path: Path | str) -> ScrewConfiguration:
     path = Path(path)
-    return parse_spec(path.read_text(), source=str(path))
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as problem:
+        line = path.read_bytes()[:problem.start].count(b"\n") + 1
+        raise SpecError(f"{path}:{line}: not a text spec file (byte {problem.object[problem.start]:#04x} "
+                        f"at offset {problem.start} is not UTF-8)") from None
+    except IsADirectoryError:
+        raise SpecError(f"{path}: is a directory, not a spec file") from None
+    return parse_spec(text, source=str(path))
 
 
 def expand_repeats(tokens: list[str]) -> tuple[str, ...]:
@@ -163,7 +171,10 @@ def _element_pieces(token: str):
 
 
 def _positive(text: str, token: str, what: str) -> Fraction:
-    value = Fraction(text)
+    try:
+        value = Fraction(text)
+    except ZeroDivisionError:
+        raise SpecError(f"token '{token}': {what} {text} divides by zero (a fraction p/q needs q > 0)") from None
     if value <= 0:
         raise SpecError(f"token '{token}': {what} must be positive, got {text}")
     return value

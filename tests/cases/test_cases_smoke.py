@@ -1,6 +1,7 @@
 """Short smoke versions of the granulator cases (demo scale): conveying direction and speed, mass
 conservation, no escaped or lost particles, outputs present and parseable, -var changes exactly
 the intended parameter, bad input stops with a clear message."""
+import json
 import os
 import re
 import subprocess
@@ -11,6 +12,7 @@ import numpy as np
 import pytest
 
 from tsg_analysis.liggghts_log import parse_thermo
+from tsg_cases.launcher import lmp_command, lmp_environment
 from tsg_analysis.run_files import read_element_statistics, read_massflow, read_residence, read_zones
 
 ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
@@ -20,7 +22,7 @@ LEAD = 0.025            # m, conveying lead S (seed paper Table 1)
 
 def run_case(case: str, out: Path, *variables: tuple[str, object], expect_ok: bool = True,
              extra: tuple[str, ...] = ()) -> subprocess.CompletedProcess:
-    command = [PYTHON, str(ROOT / "cases" / "run_case.py"), case, "--scale", "demo", "--out", str(out), *extra]
+    command = [PYTHON, "-m", "tsg_cases.run_case", case, "--scale", "demo", "--out", str(out), *extra]
     for name, value in variables:
         command += ["-v", name, str(value)]
     proc = subprocess.run(command, capture_output=True, text=True, timeout=900)
@@ -57,7 +59,7 @@ def test_periodic_conveys_downstream_at_a_plausible_speed(periodic_forward):
 
 
 def test_periodic_reversed_rotation_conveys_upstream(tmp_path):
-    run_case("periodic", tmp_path, ("rpm", -600), ("t_startup", 0.004), ("t_sample", 0.006),
+    run_case("periodic", tmp_path, ("screw_direction", -1), ("t_startup", 0.004), ("t_sample", 0.006),
              ("thermo_every", 500), ("stats_every", 500))
     assert -LEAD * 600 / 60 < conveying_axial_velocity(tmp_path) < -0.005
 
@@ -71,8 +73,8 @@ def test_periodic_conserves_mass_and_loses_nothing(periodic_forward):
         assert np.all(block["escaped"] == 0)
     assert f"TSG-DONE escaped 0 particles {count}" in log
     # the element masses tile the periodic domain: their sum is the particle mass at every sample
-    sets = re.findall(r"set atom (\d+)\*(\d+) diameter (\S+) density (\S+)", fill)
-    total = sum((int(b) - int(a) + 1) * float(rho) * np.pi / 6 * float(d) ** 3 for a, b, d, rho in sets)
+    sets = re.findall(r"set atom (\d+)\*(\d+) diameter (\S+) density \$\{rho_p\}", fill)
+    total = sum((int(b) - int(a) + 1) * 1263 * np.pi / 6 * float(d) ** 3 for a, b, d in sets)
     stats = read_element_statistics(periodic_forward / "elements.txt")
     # elements.txt prints 6 significant digits per zone (fix ave/time), so agreement to ~1e-6
     np.testing.assert_allclose(stats.column("mass").sum(axis=1), total, rtol=5e-6)
@@ -88,6 +90,78 @@ def test_periodic_outputs_are_present_and_parseable(periodic_forward):
     assert np.all((stats.column("solid_fraction") >= 0) & (stats.column("solid_fraction") < 0.74))
 
 
+def test_fill_density_is_the_runs_rho_p(tmp_path):
+    # -v rho_p 1500 reaches the particles: the mass LIGGGHTS measures in the elements equals the
+    # fill's diameters at 1500 kg/m^3 (materials.in's 1263 would be 16 % lighter)
+    run_case("periodic", tmp_path, ("rho_p", 1500), ("t_startup", 1e-5), ("t_sample", 0.0004),
+             ("thermo_every", 50), ("stats_every", 50))
+    fill = (tmp_path / "fill.in").read_text()
+    sets = re.findall(r"set atom (\d+)\*(\d+) diameter (\S+) density \$\{rho_p\}", fill)
+    assert sum(int(b) - int(a) + 1 for a, b, _ in sets) == int(re.search(r"fill_count equal (\d+)", fill).group(1))
+    total = sum((int(b) - int(a) + 1) * 1500 * np.pi / 6 * float(d) ** 3 for a, b, d in sets)
+    stats = read_element_statistics(tmp_path / "elements.txt")
+    np.testing.assert_allclose(stats.column("mass").sum(axis=1), total, rtol=5e-6)
+    params = json.loads((tmp_path / "params.json").read_text())
+    assert params["rho_p"] == 1500.0 and params["variables"]["rho_p"] == "1500"
+    assert total == pytest.approx(2.3e-3, rel=0.05)    # the fill holds the hold-up mass at that density
+
+
+def inject_into_run(text: str, phase: int, command: str) -> str:
+    """The input with `command` added to the every-commands of its phase-th `run` (0-based; a run
+    command may continue over lines ending in &)."""
+    lines = text.splitlines()
+    starts = [k for k, line in enumerate(lines) if line.startswith("run ")]
+    end = starts[phase]
+    while lines[end].rstrip().endswith("&"):
+        end += 1
+    lines[end] += f' "{command}"'
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("case,phase", [("periodic", 0), ("periodic", 1), ("nonperiodic", 0), ("full", 0), ("full", 1)],
+                         ids=["periodic-start-up", "periodic-sampling", "nonperiodic", "full-start-up", "full-sampling"])
+def test_every_phase_stops_on_a_lost_particle(request, tmp_path, case, phase):
+    # the case file itself, with one fault injected into one run phase: after the first thermo
+    # chunk particle 1 gets 2 km/s towards +z and leaves the box within the next chunk; the run
+    # must stop on the lost atom, not go on with one particle fewer (each thermo_style resets
+    # `thermo_modify lost`: cases/include/thermo.in re-arms it for every phase)
+    earlier = request.getfixturevalue({"periodic": "periodic_forward", "nonperiodic": "nonperiodic_run",
+                                       "full": "full_steady_run"}[case])
+    text = (ROOT / "cases" / f"in.tsg_{case}").read_text()
+    (tmp_path / "in.faulty").write_text(inject_into_run(text, phase, "set atom 1 vz 2000"))
+    variables = json.loads((earlier / "params.json").read_text())["variables"]
+    variables["out_dir"] = str(tmp_path)
+    if case == "periodic":
+        variables.update({"t_startup": 0.003, "t_sample": 0.003})
+    proc = subprocess.run(lmp_command("in.faulty", variables), cwd=tmp_path, capture_output=True,
+                          encoding="utf-8", errors="replace", env=lmp_environment(), timeout=600)
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    assert proc.returncode != 0, log[-2000:]
+    assert "ERROR: Lost atoms" in log and "TSG-DONE" not in log, log[-2000:]
+    # it stopped in the phase the fault was put in
+    if case == "periodic":   # only the sampling thermo has the sensor columns
+        headers = [line for line in log.splitlines() if line.split()[:1] == ["Step"]]
+        assert ("massflow" in headers[-1]) == (phase == 1), headers[-1]
+    if case == "full":       # the sampling phase follows the steady state
+        assert ("TSG-STEADY" in log) == (phase == 1)
+
+
+@pytest.mark.parametrize("phase", [0, 1], ids=["start-up", "sampling"])
+def test_periodic_stops_on_a_particle_lost_between_chunks(periodic_forward, tmp_path, phase):
+    # particle 1 put outside the box between two chunks of `run N every M`: LIGGGHTS drops it at the
+    # next chunk's set-up, where its own lost-atom check starts afresh; the count guard must stop it
+    text = (ROOT / "cases" / "in.tsg_periodic").read_text()
+    (tmp_path / "in.faulty").write_text(inject_into_run(text, phase, "set atom 1 z 0.02"))
+    variables = json.loads((periodic_forward / "params.json").read_text())["variables"]
+    variables.update({"out_dir": str(tmp_path), "t_startup": 0.003, "t_sample": 0.003})
+    proc = subprocess.run(lmp_command("in.faulty", variables), cwd=tmp_path, capture_output=True,
+                          encoding="utf-8", errors="replace", env=lmp_environment(), timeout=600)
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    count = int(re.search(r"variable fill_count equal (\d+)", (periodic_forward / "fill.in").read_text()).group(1))
+    assert proc.returncode != 0 and "TSG-DONE" not in log, log[-2000:]
+    assert f"ERROR: {count - 1} particles in the periodic domain, {count} placed: a particle was lost" in log, log[-2000:]
+
+
 def test_var_changes_the_intended_parameter_only(periodic_forward, tmp_path):
     run_case("periodic", tmp_path, ("mus_pg", 0.1), ("t_startup", 1e-5), ("t_sample", 1e-5))
     reference = parameters((periodic_forward / "log.lammps").read_text())
@@ -96,8 +170,25 @@ def test_var_changes_the_intended_parameter_only(periodic_forward, tmp_path):
     assert changed == {"mus_pg"} and float(variant["mus_pg"]) == 0.1
 
 
-def test_nonperiodic_generates_cohesive_particles_without_losses(tmp_path):
-    run_case("nonperiodic", tmp_path, ("t_run", 0.002), ("thermo_every", 500), ("stats_every", 500))
+@pytest.fixture(scope="module")
+def nonperiodic_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("nonperiodic")
+    run_case("nonperiodic", out, ("t_run", 0.002), ("thermo_every", 500), ("stats_every", 500))
+    return out
+
+
+@pytest.fixture(scope="module")
+def full_steady_run(tmp_path_factory):
+    # the steady-state branch with a tolerance that any positive outflow meets and both sensors
+    # inside the feed zone, so the branch is reached in milliseconds
+    out = tmp_path_factory.mktemp("full")
+    run_case("full", out, ("sensor_1", 0.004), ("sensor_2", 0.02), ("steady_tolerance", 1e6),
+             ("t_max_startup", 0.05), ("stats_every", 200), ("thermo_every", 100), ("t_sample", 0.0004))
+    return out
+
+
+def test_nonperiodic_generates_cohesive_particles_without_losses(nonperiodic_run):
+    tmp_path = nonperiodic_run
     log = (tmp_path / "log.lammps").read_text()
     assert parameters(log)["cohesion"] == "1"
     assert "pair_style gran model eepa" in (ROOT / "cases" / "include" / "pair_eepa.in").read_text()
@@ -108,15 +199,16 @@ def test_nonperiodic_generates_cohesive_particles_without_losses(tmp_path):
     read_residence(tmp_path / "residence.txt")
 
 
-@pytest.mark.parametrize("name,value,message", [
-    ("cohesion", 2, "cohesion = 2 is not allowed"),
-    ("psd_sigma", 0.3, "psd_s0.3.in"),
-    ("screw_drive", "spin", "screws_spin.in"),
+@pytest.mark.parametrize("name,value,message,status", [
+    ("cohesion", 2, "cohesion = 2 is not allowed", 1),          # refused by LIGGGHTS (models.in)
+    ("screw_drive", "spin", "screws_spin.in", 1),                # no such include
+    ("psd_sigma", 0.3, "psd_sigma = 0.3 is not allowed", 2),     # refused by the runner, before the feed
 ])
-def test_bad_case_variable_is_a_clear_error(tmp_path, name, value, message):
+def test_bad_case_variable_is_a_clear_error(tmp_path, name, value, message, status):
     proc = run_case("nonperiodic", tmp_path, (name, value), ("t_run", 1e-5), expect_ok=False)
-    assert proc.returncode == 1
-    assert message in proc.stderr + proc.stdout + (tmp_path / "log.lammps").read_text(errors="replace")
+    assert proc.returncode == status
+    log = tmp_path / "log.lammps"
+    assert message in proc.stderr + proc.stdout + (log.read_text(errors="replace") if log.exists() else "")
 
 
 def test_full_case_feeds_and_stops_clearly_without_steady_state(tmp_path):
@@ -146,12 +238,9 @@ def test_analysis_report_on_a_real_case_run(periodic_forward, tmp_path):
     assert "element profiles" not in missing and "zones" not in missing, summary["not_produced"]
 
 
-def test_full_case_steady_branch_writes_restart_and_holdup(tmp_path):
-    # the steady-state branch with a tolerance that any positive outflow meets and both sensors
-    # inside the feed zone, so the branch is reached in milliseconds: restart, hold-up summary,
-    # sampling window with element statistics
-    run_case("full", tmp_path, ("sensor_1", 0.004), ("sensor_2", 0.02), ("steady_tolerance", 1e6),
-             ("t_max_startup", 0.05), ("stats_every", 200), ("thermo_every", 100), ("t_sample", 0.0004))
+def test_full_case_steady_branch_writes_restart_and_holdup(full_steady_run):
+    # restart, hold-up summary, sampling window with element statistics
+    tmp_path = full_steady_run
     log = (tmp_path / "log.lammps").read_text(errors="replace")
     steady = re.search(r"TSG-STEADY t (\S+) holdup (\S+)", log)
     assert steady and float(steady.group(2)) > 0

@@ -1,15 +1,14 @@
 """The discretised particle-size distribution of cases/psd.py against the truncated normal."""
 import math
 import os
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from tsg_cases import psd
+
 ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
-sys.path.insert(0, str(ROOT / "cases"))
-import psd  # noqa: E402
 
 
 def truncated_normal_moment(k: int, sigma: float, lo: float = 0.5, hi: float = 1.5, n: int = 200001) -> float:
@@ -33,7 +32,7 @@ def test_classes_conserve_number_and_mass_moments(sigma):
 @pytest.mark.parametrize("sigma", ["0.05", "0.2"])
 def test_shipped_include_files_match_the_generator(sigma):
     shipped = (ROOT / "cases" / "include" / f"psd_s{sigma}.in").read_text()
-    assert shipped == psd.include_text(float(sigma), 7), "regenerate: python cases/psd.py write ..."
+    assert shipped == psd.include_text(float(sigma), 7), "regenerate: tsg-psd write ..."
 
 
 def test_bad_arguments_are_rejected():

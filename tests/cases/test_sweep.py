@@ -7,13 +7,13 @@ import sys
 from pathlib import Path
 
 ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
-SWEEP = [sys.executable, str(ROOT / "cases" / "sweep.py")]
+SWEEP = [sys.executable, "-m", "tsg_cases.sweep"]
 
 
 def test_matrix_holds_table_4_and_the_size_series(tmp_path):
     subprocess.run(SWEEP + ["write", str(tmp_path), "--scale", "demo", "--np", "2"], check=True, capture_output=True)
     names = (tmp_path / "runs.txt").read_text().split()
-    params = {n: json.loads((tmp_path / n / "params.json").read_text())["vars"] for n in names}
+    params = {n: json.loads((tmp_path / n / "sweep.json").read_text())["vars"] for n in names}
     assert params["reference"] == {}
     # Table 4: each variation changes one property, for particle-particle and particle-geometry
     assert params["restitution-0.1"] == {"e_pp": "0.1", "e_pg": "0.1"}

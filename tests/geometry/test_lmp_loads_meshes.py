@@ -11,13 +11,15 @@ import pytest
 
 from tsg_harness import run_lmp
 from tsg_meshes.build import MESH_FILES, build_all, generate, write_geometry
-from tsg_meshes.profile import BORE_RADIUS, CENTRE_DISTANCE, LEAD
+from tsg_meshes.machine import machine_values
+from tsg_meshes.profile import LEAD
 from tsg_meshes.spec import parse_spec
 
-HALF = CENTRE_DISTANCE / 2
+MACHINE = machine_values()   # the machine.in keys the cases read (one source)
+HALF = MACHINE["axis2_y"]
 # box around the barrel in y and z (the barrel must lie inside the non-periodic directions)
-Y_EXTENT = HALF + BORE_RADIUS + 1e-3
-Z_EXTENT = BORE_RADIUS + 1e-3
+Y_EXTENT = MACHINE["box_y"]
+Z_EXTENT = MACHINE["box_z"]
 
 MATERIALS = """
 fix m1 all property/global youngsModulus peratomtype 1.3e7
