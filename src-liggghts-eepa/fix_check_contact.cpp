@@ -103,7 +103,7 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
   nevery = 1;  // the motion guard runs every step; the rest every check_every_ steps
   vector_flag = 1;
   size_vector = kFixedOutputs + static_cast<int>(mesh_ids_.size());
-  global_freq = check_every_;
+  global_freq = 1;  // outputs hold the last check's values at any step (thermo at the end of a run)
   extvector = 0;
 }
 
