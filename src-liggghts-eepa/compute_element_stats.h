@@ -28,6 +28,7 @@ ComputeStyle(element/stats,ComputeElementStats)
 #include <vector>
 
 #include "compute.h"
+
 #include "zones.h"
 
 namespace LAMMPS_NS {

@@ -14,7 +14,6 @@
 #include "fix_neighlist_mesh.h"
 #include "fix_property_global.h"
 #include "fix_wall_gran.h"
-#include "fix_wall_gran_corotating.h"
 #include "force.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -23,6 +22,7 @@
 #include "update.h"
 
 #include "contact_timestep.h"
+#include "fix_wall_gran_corotating.h"
 
 using namespace LAMMPS_NS;
 

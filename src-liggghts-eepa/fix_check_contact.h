@@ -39,11 +39,11 @@ namespace LAMMPS_NS {
 class FixCheckContact : public Fix {
 public:
   FixCheckContact(class LAMMPS *, int, char **);
-  int setmask();
-  void init();
-  void setup(int);
-  void end_of_step();
-  double compute_vector(int);
+  int setmask() override;
+  void init() override;
+  void setup(int) override;
+  void end_of_step() override;
+  double compute_vector(int) override;
 
 private:
   struct Deepest {  // a largest overlap and who has it

@@ -22,6 +22,7 @@ FixStyle(massflow/planes,FixMassflowPlanes)
 #include <vector>
 
 #include "fix.h"
+
 #include "measure_common.h"
 
 namespace LAMMPS_NS {

@@ -30,6 +30,7 @@ FixStyle(residence/time,FixResidenceTime)
 #include <vector>
 
 #include "fix.h"
+
 #include "ledger.h"
 #include "measure_common.h"
 #include "residence.h"

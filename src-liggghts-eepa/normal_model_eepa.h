@@ -39,14 +39,14 @@ public:
     last_touch_step_offset_ = hsetup->add_history_value("eepa_last_touch_step", "0");
   }
 
-  void registerSettings(Settings &settings)
+  void registerSettings(Settings &settings) override
   {
     settings.registerOnOff("tangential_damping", tangential_damping_, true);
   }
 
-  void postSettings(IContactHistorySetup *, ContactModelBase *) {}
+  void postSettings(IContactHistorySetup *, ContactModelBase *) override {}
 
-  void connectToProperties(PropertyRegistry &registry)
+  void connectToProperties(PropertyRegistry &registry) override
   {
     registry.registerProperty("Yeff", &MODEL_PARAMS::createYeff, "model eepa");
     registry.registerProperty("betaeff", &MODEL_PARAMS::createBetaEff, "model eepa");
@@ -56,9 +56,9 @@ public:
   }
 
   // Used by heat conduction to scale the contact area: the loading-branch exponent.
-  double stressStrainExponent() { return eepa_properties_.slope_exponent_for_heat(); }
+  double stressStrainExponent() override { return eepa_properties_.slope_exponent_for_heat(); }
 
-  inline void surfacesIntersect(SurfacesIntersectData &sidata, ForceData &i_forces, ForceData &j_forces)
+  void surfacesIntersect(SurfacesIntersectData &sidata, ForceData &i_forces, ForceData &j_forces) override
   {
     if (sidata.contact_flags) *sidata.contact_flags |= CONTACT_NORMAL_MODEL;
     const int itype = sidata.itype;
@@ -118,13 +118,13 @@ public:
 
   // Apart but within contact_distance_factor: not a contact, so the pair's history need not
   // survive a neighbour rebuild (the reset itself happens on the next touch, above).
-  void surfacesClose(SurfacesCloseData &scdata, ForceData &, ForceData &)
+  void surfacesClose(SurfacesCloseData &scdata, ForceData &, ForceData &) override
   {
     if (scdata.contact_flags) *scdata.contact_flags &= ~CONTACT_NORMAL_MODEL;
   }
 
-  void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
-  void endPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
+  void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) override {}
+  void endPass(SurfacesIntersectData &, ForceData &, ForceData &) override {}
 
 private:
   double **Yeff_ = nullptr;

@@ -12,7 +12,8 @@
 //
 // walk() moves a particle from u0 (time t0) to u1 (time t1) assuming constant velocity over the
 // step, reporting each edge crossed, in order, with the interpolated crossing time.
-#pragma once
+#ifndef TSG_AXIAL_PARTITION_H
+#define TSG_AXIAL_PARTITION_H
 
 #include <algorithm>
 #include <cmath>
@@ -167,3 +168,5 @@ inline void walk(const Partition &p, int &cell, long &per, double u0, double u1,
 }
 
 }  // namespace tsg::axial
+
+#endif

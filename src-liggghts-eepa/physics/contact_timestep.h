@@ -1,6 +1,7 @@
 // Critical time-step estimates for DEM contacts, dependency-free. SI units.
 // Derivations and the seed-paper check are in docs/eepa-law.md, "Time step".
-#pragma once
+#ifndef TSG_CONTACT_TIMESTEP_H
+#define TSG_CONTACT_TIMESTEP_H
 
 #include <cmath>
 
@@ -45,3 +46,5 @@ inline double verlet_stable_step(double stiffness, double reduced_mass) {
 inline double eepa_step_factor(double plasticity_ratio) { return std::sqrt(1 - plasticity_ratio); }
 
 }  // namespace tsg::timestep
+
+#endif

@@ -4,7 +4,8 @@
 // Morrissey, PhD thesis, University of Edinburgh (2013) ("Morrissey 2013"); the seed paper
 // (Section 2.1, Table 4). Every equation, and every choice made where the sources are silent, is
 // derived in docs/eepa-law.md. Sign convention: overlap δ > 0 in contact, force > 0 repels.
-#pragma once
+#ifndef TSG_EEPA_LAW_H
+#define TSG_EEPA_LAW_H
 
 #include <algorithm>
 #include <cmath>
@@ -250,3 +251,5 @@ inline double damping_force(double beta, double stiffness, double reduced_mass,
 }
 
 }  // namespace tsg::eepa
+
+#endif

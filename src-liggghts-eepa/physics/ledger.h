@@ -10,7 +10,8 @@
 //     fewer arrivals than packs; the ids in transit that no rank owns were lost.
 // reconcile steps (on reneighbouring steps and at set-up): take_deleted() with the ids owned now,
 // then, if the global pack gap is not zero, match transit_ids() across ranks, then end_exchange().
-#pragma once
+#ifndef TSG_LEDGER_H
+#define TSG_LEDGER_H
 
 #include <algorithm>
 #include <unordered_map>
@@ -131,3 +132,5 @@ private:
 };
 
 }  // namespace tsg::residence
+
+#endif

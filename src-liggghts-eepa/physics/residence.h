@@ -20,7 +20,8 @@
 //   "pass" and the next pass starts at the same instant.
 // Analysis domain [analysis_lo, analysis_hi): time outside it (buffer zones) counts neither to any
 // zone nor to the residence time, which is therefore exit - entry minus time spent in the buffers.
-#pragma once
+#ifndef TSG_RESIDENCE_H
+#define TSG_RESIDENCE_H
 
 #include <cstdio>
 #include <limits>
@@ -254,3 +255,5 @@ inline std::string record_columns(int nzones) {
 }
 
 }  // namespace tsg::residence
+
+#endif

@@ -8,7 +8,8 @@
 //   R² - (a² + ab + b²)/3 = [ (R-a)(R+a) + (R-b)(R+b) + ((R-a)(R+b) + (R-b)(R+a))/2 ] / 3,
 // so nothing cancels: thin slabs and small caps keep full relative precision, and the pieces of a
 // sphere cut by adjacent slabs add up to the whole sphere.
-#pragma once
+#ifndef TSG_SPHERE_SLAB_H
+#define TSG_SPHERE_SLAB_H
 
 #include <algorithm>
 
@@ -44,3 +45,5 @@ inline double sphere_slab_fraction(double centre, double radius, double x0, doub
 }
 
 }  // namespace tsg::geometry
+
+#endif

@@ -3,7 +3,8 @@
 // Zones are slabs x_start <= x < x_end (zones.h); the volume of the sphere inside a slab is exact
 // (sphere_slab.h), not a count of centres. On a periodic axis the image of a sphere cut by the
 // periodic boundary is included, so that sphere contributes to the zones at both ends of the box.
-#pragma once
+#ifndef TSG_ZONE_OVERLAP_H
+#define TSG_ZONE_OVERLAP_H
 
 #include <cstddef>
 #include <vector>
@@ -33,3 +34,5 @@ inline void for_each_overlap(const std::vector<Zone> &zones, double centre, doub
 }
 
 }  // namespace tsg::zones
+
+#endif

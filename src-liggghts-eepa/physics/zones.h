@@ -11,7 +11,8 @@
 // Axial direction is x (screw axes along +x, flow towards +x).
 //
 // Every violation throws std::invalid_argument with the source name, the line number and the reason.
-#pragma once
+#ifndef TSG_ZONES_H
+#define TSG_ZONES_H
 
 #include <cerrno>
 #include <cmath>
@@ -259,3 +260,5 @@ inline std::string identity_difference(const double *stored, const std::vector<Z
 }
 
 }  // namespace tsg::zones
+
+#endif
