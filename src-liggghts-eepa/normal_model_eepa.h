@@ -5,7 +5,9 @@
 // This file only connects the law to LIGGGHTS: per-type-pair parameters, the per-contact history,
 // the dashpot and the forces. The law, its sources and every modelling choice: docs/eepa.md.
 #ifdef NORMAL_MODEL
+// clang-format off
 NORMAL_MODEL(EEPA,eepa,20)
+// clang-format on
 #else
 #ifndef TSG_NORMAL_MODEL_EEPA_H
 #define TSG_NORMAL_MODEL_EEPA_H
@@ -26,12 +28,11 @@ NORMAL_MODEL(EEPA,eepa,20)
 namespace LIGGGHTS {
 namespace ContactModels {
 
-template<>
-class NormalModel<EEPA> : public NormalModelBase
-{
+template <>
+class NormalModel<EEPA> : public NormalModelBase {
 public:
   NormalModel(LAMMPS *lmp, IContactHistorySetup *hsetup, class ContactModelBase *)
-    : NormalModelBase(lmp, hsetup, nullptr)
+      : NormalModelBase(lmp, hsetup, nullptr)
   {
     // Scalars: flag "0" keeps LIGGGHTS from negating them for the partner atom on exchange.
     max_overlap_offset_ = hsetup->add_history_value("eepa_max_overlap", "0");
@@ -73,9 +74,9 @@ public:
     double *history = sidata.contact_history;
     const double step = static_cast<double>(update->ntimestep);
     const bool touched_last_step = history[last_touch_step_offset_] >= step - 1;
-    const tsg::eepa::History previous = touched_last_step
-        ? tsg::eepa::History{history[max_overlap_offset_], history[plastic_overlap_offset_]}
-        : tsg::eepa::History{};
+    const tsg::eepa::History previous =
+        touched_last_step ? tsg::eepa::History{history[max_overlap_offset_], history[plastic_overlap_offset_]}
+                          : tsg::eepa::History{};
     const tsg::eepa::State state =
         tsg::eepa::evaluate(law, previous, sidata.deltan, eepa_properties_.plastic_root(itype, jtype));
     if (sidata.computeflag && sidata.shearupdate) {

@@ -13,7 +13,8 @@
 
 namespace tsg::flow {
 
-inline long net_crossings(double u0, double u1, double plane, double period) {
+inline long net_crossings(double u0, double u1, double plane, double period)
+{
   if (period > 0)
     return static_cast<long>(std::floor((u1 - plane) / period)) - static_cast<long>(std::floor((u0 - plane) / period));
   return static_cast<long>(u1 >= plane) - static_cast<long>(u0 >= plane);

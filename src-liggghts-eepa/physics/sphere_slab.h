@@ -19,7 +19,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 namespace detail {
 // R² - (a² + ab + b²)/3 for -R <= a <= b <= R, without cancellation (see the top of the file)
-inline double bracket(double radius, double a, double b) {
+inline double bracket(double radius, double a, double b)
+{
   const double below_a = radius + a, above_a = radius - a;
   const double below_b = radius + b, above_b = radius - b;
   return (above_a * below_a + above_b * below_b + 0.5 * (above_a * below_b + above_b * below_a)) / 3.0;
@@ -29,7 +30,8 @@ inline double bracket(double radius, double a, double b) {
 inline double sphere_volume(double radius) { return 4.0 / 3.0 * kPi * radius * radius * radius; }
 
 // Volume of the sphere (centre, radius) between the planes x = x0 and x = x1 (x0 <= x1).
-inline double sphere_slab_volume(double centre, double radius, double x0, double x1) {
+inline double sphere_slab_volume(double centre, double radius, double x0, double x1)
+{
   const double a = std::max(x0 - centre, -radius);
   const double b = std::min(x1 - centre, radius);
   if (!(b > a)) return 0.0;
@@ -37,7 +39,8 @@ inline double sphere_slab_volume(double centre, double radius, double x0, double
 }
 
 // Fraction (0..1) of the sphere's volume between x0 and x1.
-inline double sphere_slab_fraction(double centre, double radius, double x0, double x1) {
+inline double sphere_slab_fraction(double centre, double radius, double x0, double x1)
+{
   const double a = std::max(x0 - centre, -radius) / radius;
   const double b = std::min(x1 - centre, radius) / radius;
   if (!(b > a)) return 0.0;
