@@ -50,11 +50,10 @@ constexpr int kRecordHead = 8;  // id entry exit residence reason type_time[3]
 }  // namespace
 
 FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
-    : Fix(lmp, narg, arg), plane_inlet_(0), plane_outlet_(0), plane_reference_(0), analysis_lo_(-INFINITY),
-      analysis_hi_(INFINITY), has_analysis_(false), existing_given_(false), write_inside_(false),
-      append_(tsg::measure::Append::automatic), continuing_(false), flush_every_(1000), flush_given_(false),
-      first_setup_done_(false), nvalues_(0), state_(nullptr), bounds_(nullptr), inside_(nullptr), fp_(nullptr),
-      cache_valid_(false), inside_now_(0)
+    : Fix(lmp, narg, arg), plane_reference_(0), analysis_lo_(-INFINITY), analysis_hi_(INFINITY), has_analysis_(false),
+      existing_given_(false), write_inside_(false), append_(tsg::measure::Append::automatic), continuing_(false),
+      flush_every_(1000), flush_given_(false), first_setup_done_(false), nvalues_(0), state_(nullptr), bounds_(nullptr),
+      inside_(nullptr), fp_(nullptr), cache_valid_(false), inside_now_(0)
 {
   const std::string who = std::string("fix ") + id + " residence/time";
   const char *zones_file = nullptr;
@@ -81,15 +80,13 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
       iarg += 2;
     } else if (key == "inlet") {
       need(1);
-      plane_inlet_ = real(1);
       settings_.has_inlet = true;
-      settings_.inlet = plane_inlet_;
+      settings_.inlet = real(1);
       iarg += 2;
     } else if (key == "outlet") {
       need(1);
-      plane_outlet_ = real(1);
       settings_.has_outlet = true;
-      settings_.outlet = plane_outlet_;
+      settings_.outlet = real(1);
       iarg += 2;
     } else if (key == "periodic") {
       need(1);
@@ -143,8 +140,9 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
     fail(lmp, who,
          "'periodic' cannot be combined with 'inlet' or 'outlet' (a pass runs from one "
          "crossing of the reference plane to the next)");
-  if (settings_.has_inlet && settings_.has_outlet && !(plane_outlet_ > plane_inlet_))
-    fail(lmp, who, "outlet " + number(plane_outlet_) + " must lie downstream (+x) of inlet " + number(plane_inlet_));
+  if (settings_.has_inlet && settings_.has_outlet && !(settings_.outlet > settings_.inlet))
+    fail(lmp, who,
+         "outlet " + number(settings_.outlet) + " must lie downstream (+x) of inlet " + number(settings_.inlet));
   if (!existing_given_) settings_.tag_existing = !has_periodic;
 
   zones_path_ = zones_file;
@@ -196,8 +194,8 @@ void FixResidenceTime::open_records_file()
     header += "# axis: periodic, passes between crossings of x = " + number(plane_reference_) + " (+x)\n";
   else
     header += std::string("# axis: open, inlet ") +
-              (settings_.has_inlet ? number(plane_inlet_) : "none (tagged on insertion)") + ", outlet " +
-              (settings_.has_outlet ? number(plane_outlet_) : "none") + "\n";
+              (settings_.has_inlet ? number(settings_.inlet) : "none (tagged on insertion)") + ", outlet " +
+              (settings_.has_outlet ? number(settings_.outlet) : "none") + "\n";
   header +=
       "# analysis domain: " +
       (has_analysis_ ? "[" + number(analysis_lo_) + ", " + number(analysis_hi_) + ")" : std::string("whole axis")) +
@@ -229,8 +227,8 @@ void FixResidenceTime::init()
       fail(lmp, who, e.what());
     }
     using tsg::measure::check_plane_in_box;
-    if (settings_.has_inlet) check_plane_in_box(lmp, who, "inlet plane", plane_inlet_, false);
-    if (settings_.has_outlet) check_plane_in_box(lmp, who, "outlet plane", plane_outlet_, false);
+    if (settings_.has_inlet) check_plane_in_box(lmp, who, "inlet plane", settings_.inlet, false);
+    if (settings_.has_outlet) check_plane_in_box(lmp, who, "outlet plane", settings_.outlet, false);
     if (settings_.periodic) check_plane_in_box(lmp, who, "periodic reference plane", plane_reference_, true);
     if (has_analysis_) {
       check_plane_in_box(lmp, who, "analysis XLO plane", analysis_lo_, false);
@@ -238,8 +236,8 @@ void FixResidenceTime::init()
     }
   }
   std::vector<tsg::axial::Plane> planes;
-  if (settings_.has_inlet) planes.push_back({plane_inlet_, tsg::axial::kInlet});
-  if (settings_.has_outlet) planes.push_back({plane_outlet_, tsg::axial::kOutlet});
+  if (settings_.has_inlet) planes.push_back({settings_.inlet, tsg::axial::kInlet});
+  if (settings_.has_outlet) planes.push_back({settings_.outlet, tsg::axial::kOutlet});
   if (settings_.periodic) planes.push_back({plane_reference_, tsg::axial::kReference});
   tsg::axial::Partition partition;
   try {

@@ -92,7 +92,7 @@ private:
   tsg::residence::Tracker tracker_;
   tsg::residence::Settings settings_;
   std::vector<double> partition_edges_;  // of the first init(), to detect a changed box
-  double plane_inlet_, plane_outlet_, plane_reference_;
+  double plane_reference_;
   double analysis_lo_, analysis_hi_;
   bool has_analysis_;
   bool existing_given_;
