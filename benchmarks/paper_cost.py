@@ -36,6 +36,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
+# The guards stay on (their per-step cost is part of the case) but out of reach: the static paper
+# fill trips max_speed within a few steps (a particle touching a screw at phase 0; docs/stability.md).
+RELAXED_GUARDS = {"guard_max_speed": 1e9, "guard_max_pair_overlap": 1e9, "guard_max_wall_overlap": 1e9}
 
 BENCH_INPUT = """# benchmarks/paper_cost.py: the paper-scale periodic case continued from a restart taken in motion
 processors ${procs_x} 1 1
@@ -103,7 +106,7 @@ def mpi(lmp: str, np_ranks: int) -> list[str]:
 def lmp_run(command: list[str], workdir: Path, variables: dict[str, object]) -> str:
     for name, value in variables.items():
         command += ["-var", name, str(value)]
-    done = subprocess.run(command, cwd=workdir, capture_output=True, text=True,
+    done = subprocess.run(command, cwd=workdir, capture_output=True, text=True, errors="replace",
                           env=dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"))
     log = (workdir / "log.lammps").read_text(errors="replace") if (workdir / "log.lammps").exists() else ""
     if done.returncode != 0:
@@ -135,7 +138,7 @@ def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: i
     (run_dir / "in.restart").write_text(RESTART_INPUT)
     dt = float(case["dt"])
     variables = {"case_dir": CASES, "out_dir": run_dir, "restart_file": restart, "t_startup": startup_steps * dt,
-                 "t_sample": 0, "thermo_every": thermo_every, "stats_every": thermo_every,
+                 "t_sample": 0, "thermo_every": thermo_every, "stats_every": thermo_every, **RELAXED_GUARDS,
                  **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file", "d_mean", "dt_fraction")}}
     print(f"[restart] {startup_steps} steps ({1e3 * startup_steps * dt:.1f} ms) from the fill, 2 ranks ...", flush=True)
     lmp_run(mpi(lmp, 2) + ["-in", "in.restart", "-log", "log.lammps", "-echo", "none"], run_dir, variables)
@@ -160,7 +163,7 @@ def bench(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, ob
     variables = {"case_dir": CASES, "out_dir": workdir, "restart_file": restart, "bench_steps": steps,
                  "thermo_every": thermo_every, "stats_every": thermo_every, "skin": 0.2 * float(case["d_mean"]),
                  "procs_x": "*", "x_lo": 0.0, "domain_length": 0.0958333333333, "buffer": 0.00625, "rpm": 600,
-                 "screw_drive": "corotating", "cohesion": 0, "dump_every": 0,
+                 "screw_drive": "corotating", "cohesion": 0, "dump_every": 0, **RELAXED_GUARDS,
                  **{k: case[k] for k in ("mesh_dir", "zones_file", "d_mean", "dt_fraction", "d_min_value")}}
     command = (wrapper or []) + mpi(lmp, np_ranks) + ["-in", "in.bench", "-log", "log.lammps", "-echo", "none"]
     log = lmp_run(command, workdir, variables)
@@ -174,6 +177,18 @@ def callgrind_instructions(label: str, lmp: str, restart: Path, case: dict[str, 
     bench(label, lmp, 1, restart, case, steps, 10 * steps, workdir, wrapper)
     summary = re.search(r"^summary:\s+(\d+)", out.read_text(errors="replace"), re.M)
     return int(summary.group(1))
+
+
+def perf_profile(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, object], steps: int,
+                 thermo_every: int, workdir: Path) -> str:
+    """Shares of CPU samples by function (perf record -e cpu-clock, all ranks). The setup (reading
+    the meshes and the restart) is sampled too, under its own function names."""
+    out = workdir / "perf.data"
+    wrapper = ["perf", "record", "-q", "-F", "499", "-e", "cpu-clock", "-o", str(out), "--"]
+    bench(label, lmp, np_ranks, restart, case, steps, thermo_every, workdir, wrapper)
+    report = subprocess.run(["perf", "report", "--stdio", "-i", str(out), "--sort", "symbol", "--percent-limit", "0.7"],
+                            capture_output=True, text=True).stdout
+    return "\n".join(line for line in report.splitlines() if line.strip() and not line.startswith("#"))
 
 
 def machine() -> str:
@@ -200,6 +215,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--startup-steps", type=int, default=10000, help="steps from the fill before the restart")
     parser.add_argument("--thermo-every", type=int, default=200)
     parser.add_argument("--callgrind-steps", type=int, default=0, help="also count instructions of N steps (serial)")
+    parser.add_argument("--profile-steps", type=int, default=0,
+                        help="also profile N steps with perf record (each variant, each --np)")
     parser.add_argument("--work", type=Path, default=None, help="keeps the prepared fill and the restart between calls")
     args = parser.parse_args(argv)
     work = args.work or Path(tempfile.mkdtemp(prefix="paper_cost_"))
@@ -236,6 +253,12 @@ def main(argv: list[str] | None = None) -> int:
             print(f"callgrind {label:<9}: {count / args.callgrind_steps / 1e6:.1f} M instructions per step "
                   f"(run loop, serial, {args.callgrind_steps} steps)")
         print(f"callgrind: baseline / this = {counts['baseline'] / counts['this']:.2f} (instructions; independent of load)")
+    if args.profile_steps > 0:
+        for np_ranks in args.np:
+            for label, lmp in variants.items():
+                print(f"--- perf profile: {label}, {np_ranks} rank(s), {args.profile_steps} steps (CPU samples by function)")
+                print(perf_profile(label, lmp, np_ranks, restart, case, args.profile_steps, args.thermo_every,
+                                   work / f"perf-{label}-np{np_ranks}"), flush=True)
     print(f"machine at the end: {machine()}")
     return 0
 
