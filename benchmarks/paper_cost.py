@@ -43,6 +43,7 @@ RELAXED_GUARDS = {"guard_max_speed": 1e9, "guard_max_pair_overlap": 1e9, "guard_
 BENCH_INPUT = """# benchmarks/paper_cost.py: the paper-scale periodic case continued from a restart taken in motion
 processors ${procs_x} 1 1
 read_restart ${restart_file}
+newton off
 neighbor ${skin} bin
 neigh_modify delay 0
 communicate single vel yes

@@ -462,12 +462,21 @@ void FixWallGranCorotating::follow_lists_to_new_indices(const std::vector<rot::M
     if (fresh[i] && (atom->mask[i] & groupbit)) build_candidates(i, poses);
 }
 
-// Candidates of particle i: the triangles of every screw whose bounding sphere comes within reach +
-// skin of the particle or of a periodic image of it within that distance of a box face. With them,
+namespace {
+// distance from p to the triangle's plane: a lower bound on its distance to the triangle
+double plane_distance(const tmesh::Triangle &t, const double *p)
+{
+  return std::fabs((p[0] - t.node[0][0]) * t.normal[0] + (p[1] - t.node[0][1]) * t.normal[1] +
+                   (p[2] - t.node[0][2]) * t.normal[2]);
+}
+}  // namespace
+
+// Candidates of particle i: the triangles of every screw whose bounding sphere and plane come within
+// reach + skin of the particle or of a periodic image of it within that distance of a box face. With them,
 // how far the particle may move in each frame before the list can miss a contact (its margin):
 //   - a screw with candidates: the list skin (every other triangle was farther than reach + skin;
 //     the mesh is at rest in its frame, so the whole skin is the particle's, not half of it);
-//   - a screw without: the tree's clearance less the reach (at least the skin), capped at
+//   - a screw without: the tree's clearance less the reach, if more than the skin, capped at
 //     kFarMargins skins — particles far from a screw keep their empty list for many steps;
 //   - lab frame (periodic images): the distance to the nearest periodic face whose image is not
 //     in the list, less the reach.
@@ -518,9 +527,13 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
       const double centre[3] = {image_body.x, image_body.y, image_body.z};
       const size_t before = list.size();
       screw.tree.for_each_near(centre, reach, [&](int tri) {
-        list.push_back({static_cast<int>(s), tri, {images[k][0], images[k][1], images[k][2]}});
+        if (plane_distance(screw.triangles[tri], centre) <= reach)
+          list.push_back({static_cast<int>(s), tri, {images[k][0], images[k][1], images[k][2]}});
       });
-      margin = std::min(margin, list.size() > before ? skin : screw.tree.clearance(centre, cap + contact_reach) - contact_reach);
+      // every triangle left out is farther than reach + skin (sphere, box or plane), and none is
+      // nearer than the clearance
+      const double clear = list.size() > before ? 0.0 : screw.tree.clearance(centre, cap + contact_reach) - contact_reach;
+      margin = std::min(margin, std::max(skin, clear));
     }
     frame[3] = margin * margin;
   }
@@ -594,6 +607,7 @@ void FixWallGranCorotating::corotating_contacts()
       const double gx = centre[0] - sphere[0], gy = centre[1] - sphere[1], gz = centre[2] - sphere[2];
       const double limit = reach + sphere[3];
       if (gx * gx + gy * gy + gz * gz > limit * limit) continue;
+      if (plane_distance(s.triangles[cand.triangle], centre) > reach) continue;  // its plane is out of reach
       const tmesh::Contact c = tmesh::closest_feature(s.triangles[cand.triangle], centre, s.precision);
       if (c.feature == tmesh::Feature::none) continue;
       const double deltan = c.distance - radius[i];
