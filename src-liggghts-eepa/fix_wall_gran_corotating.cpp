@@ -31,8 +31,8 @@ namespace {
 constexpr int kValuesPerTriangle = 32;  // id, nodes 9, edge units 9, edge lengths 3, normal 3, obtuse, active 6
 constexpr int kLoadValues = 6;
 constexpr int kOutputsPerScrew = 7;  // load values and the angle
-// an empty candidate list stays valid for at most this many list skins of motion (cost measured in
-// docs/performance.md)
+// an empty candidate list stays valid for at most this many list skins of motion (a choice, not
+// tuned: docs/performance.md)
 constexpr double kFarMargins = 16.0;
 // LIGGGHTS' coplanarity threshold for mesh faces (SurfaceMesh: 1 − EPSILON_CURVATURE)
 constexpr double kCoplanarCurvature = 1.0 - 1e-5;
