@@ -31,6 +31,9 @@ namespace {
 constexpr int kValuesPerTriangle = 32;  // id, nodes 9, edge units 9, edge lengths 3, normal 3, obtuse, active 6
 constexpr int kLoadValues = 6;
 constexpr int kOutputsPerScrew = 7;  // load values and the angle
+// an empty candidate list stays valid for at most this many list skins of motion (a choice, not
+// tuned: docs/performance.md)
+constexpr double kFarMargins = 16.0;
 // LIGGGHTS' coplanarity threshold for mesh faces (SurfaceMesh: 1 − EPSILON_CURVATURE)
 constexpr double kCoplanarCurvature = 1.0 - 1e-5;
 // a corotating screw must be (close to) symmetric about its axis: the area centroid of its surface
@@ -436,7 +439,7 @@ void FixWallGranCorotating::pre_neighbor()
 void FixWallGranCorotating::follow_lists_to_new_indices(const std::vector<rot::Mat3> &poses)
 {
   const int nlocal = atom->nlocal;
-  const size_t stride = 3 + 3 * screws_.size();
+  const size_t stride = built_stride();
   std::unordered_map<tagint, size_t> old_index;
   old_index.reserve(list_owner_.size());
   for (size_t k = 0; k < list_owner_.size(); ++k) old_index.emplace(list_owner_[k], k);
@@ -459,21 +462,44 @@ void FixWallGranCorotating::follow_lists_to_new_indices(const std::vector<rot::M
     if (fresh[i] && (atom->mask[i] & groupbit)) build_candidates(i, poses);
 }
 
-// Candidates of particle i: the triangles of every screw whose bounding sphere comes within reach +
-// skin of the particle or of a periodic image of it within that distance of a box face.
+namespace {
+// distance from p to the triangle's plane: a lower bound on its distance to the triangle
+double plane_distance(const tmesh::Triangle &t, const double *p)
+{
+  return std::fabs((p[0] - t.node[0][0]) * t.normal[0] + (p[1] - t.node[0][1]) * t.normal[1] +
+                   (p[2] - t.node[0][2]) * t.normal[2]);
+}
+}  // namespace
+
+// Candidates of particle i: the triangles of every screw whose bounding sphere and plane come within
+// reach + skin of the particle or of a periodic image of it within that distance of a box face. With them,
+// how far the particle may move in each frame before the list can miss a contact (its margin):
+//   - a screw with candidates: the list skin (every other triangle was farther than reach + skin;
+//     the mesh is at rest in its frame, so the whole skin is the particle's, not half of it);
+//   - a screw without: the tree's clearance less the reach, if more than the skin, capped at
+//     kFarMargins skins — particles far from a screw keep their empty list for many steps;
+//   - lab frame (periodic images): the distance to the nearest periodic face whose image is not
+//     in the list, less the reach.
 void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3> &poses)
 {
   const double *xi = atom->x[i];
-  const double reach = atom->radius[i] * std::max(1.0, neighbor->contactDistanceFactor) + list_skin();
+  const double contact_reach = atom->radius[i] * std::max(1.0, neighbor->contactDistanceFactor);
+  const double skin = list_skin();
+  const double reach = contact_reach + skin;
+  const double cap = kFarMargins * skin;
   const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
   // images: -1, 0, +1 box lengths per periodic direction within reach of a face
   signed char images[8][3] = {{0, 0, 0}};
   int nimage = 1;
+  double lab_margin = cap;
   for (int d = 0; d < 3; ++d) {
     if (!periodic[d]) continue;
+    const double below = xi[d] - domain->boxlo[d], above = domain->boxhi[d] - xi[d];
     signed char shift = 0;
-    if (xi[d] - domain->boxlo[d] < reach) shift = 1;
-    else if (domain->boxhi[d] - xi[d] < reach) shift = -1;
+    if (below < reach) shift = 1;
+    else if (above < reach) shift = -1;
+    const double uncovered = shift == 1 ? above : (shift == -1 ? below : std::min(below, above));
+    lab_margin = std::min(lab_margin, uncovered - contact_reach);
     if (shift == 0) continue;
     for (int k = 0; k < nimage; ++k) {
       std::copy(images[k], images[k] + 3, images[nimage + k]);
@@ -484,21 +510,32 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
   std::vector<Candidate> &list = candidates_[i];
   list.clear();
   ++list_builds_;
-  double *built = &built_at_[static_cast<size_t>(i) * (3 + 3 * screws_.size())];
+  double *built = &built_at_[static_cast<size_t>(i) * built_stride()];
   std::copy(xi, xi + 3, built);
+  lab_margin = std::max(lab_margin, 0.0);  // a box shorter than two reaches: rebuild every step
+  built[3] = lab_margin * lab_margin;
   for (size_t s = 0; s < screws_.size(); ++s) {
     const Screw &screw = screws_[s];
     const rot::Vec3 body = screw.motion.to_body(poses[s], {xi[0], xi[1], xi[2]});
-    built[3 + 3 * s] = body.x, built[4 + 3 * s] = body.y, built[5 + 3 * s] = body.z;
+    double *frame = built + 4 + 4 * s;
+    frame[0] = body.x, frame[1] = body.y, frame[2] = body.z;
+    double margin = cap;
     for (int k = 0; k < nimage; ++k) {
       const rot::Vec3 lab{xi[0] + images[k][0] * domain->prd[0], xi[1] + images[k][1] * domain->prd[1],
                           xi[2] + images[k][2] * domain->prd[2]};
       const rot::Vec3 image_body = screw.motion.to_body(poses[s], lab);
       const double centre[3] = {image_body.x, image_body.y, image_body.z};
+      const size_t before = list.size();
       screw.tree.for_each_near(centre, reach, [&](int tri) {
-        list.push_back({static_cast<int>(s), tri, {images[k][0], images[k][1], images[k][2]}});
+        if (plane_distance(screw.triangles[tri], centre) <= reach)
+          list.push_back({static_cast<int>(s), tri, {images[k][0], images[k][1], images[k][2]}});
       });
+      // every triangle left out is farther than reach + skin (sphere, box or plane), and none is
+      // nearer than the clearance
+      const double clear = list.size() > before ? 0.0 : screw.tree.clearance(centre, cap + contact_reach) - contact_reach;
+      margin = std::min(margin, std::max(skin, clear));
     }
+    frame[3] = margin * margin;
   }
   // the order of fix wall/gran: mesh by mesh as listed, triangles by index (which contact of two
   // coplanar ones is kept depends on it)
@@ -518,9 +555,8 @@ void FixWallGranCorotating::corotating_contacts()
   const int *mask = atom->mask;
   const double touch_factor = neighbor->contactDistanceFactor - 1.0;  // contacts without overlap (cohesion)
   const double time = elapsed_time();
-  const double half_skin2 = 0.25 * list_skin() * list_skin();
   const size_t nscrews = screws_.size();
-  const size_t stride = 3 + 3 * nscrews;
+  const size_t stride = built_stride();
 
   std::vector<rot::Mat3> poses(nscrews);
   for (size_t s = 0; s < nscrews; ++s) {
@@ -539,15 +575,16 @@ void FixWallGranCorotating::corotating_contacts()
   sidata.is_wall = true;
   for (int i = 0; i < nlocal; ++i) {
     if (!(mask[i] & groupbit)) continue;
-    // half a skin away from where the list was built, in the lab or in a screw's frame: rebuild
+    // moved beyond its margin in the lab or in a screw's frame since the list was built: rebuild
     const double *built = &built_at_[static_cast<size_t>(i) * stride];
-    auto moved2 = [](const double *a, const rot::Vec3 &b) {
-      const double dx = a[0] - b.x, dy = a[1] - b.y, dz = a[2] - b.z;
-      return dx * dx + dy * dy + dz * dz;
+    auto beyond = [](const double *frame, const rot::Vec3 &now) {
+      const double dx = frame[0] - now.x, dy = frame[1] - now.y, dz = frame[2] - now.z;
+      return dx * dx + dy * dy + dz * dz > frame[3];
     };
-    bool stale = moved2(built, {x[i][0], x[i][1], x[i][2]}) > half_skin2;
+    const rot::Vec3 xlab{x[i][0], x[i][1], x[i][2]};
+    bool stale = beyond(built, xlab);
     for (size_t s = 0; s < nscrews && !stale; ++s)
-      stale = moved2(built + 3 + 3 * s, screws_[s].motion.to_body(poses[s], {x[i][0], x[i][1], x[i][2]})) > half_skin2;
+      stale = beyond(built + 4 + 4 * s, screws_[s].turning ? screws_[s].motion.to_body(poses[s], xlab) : xlab);
     if (stale) build_candidates(i, poses);
     const double reach = radius[i] * std::max(1.0, neighbor->contactDistanceFactor);
 
@@ -570,6 +607,7 @@ void FixWallGranCorotating::corotating_contacts()
       const double gx = centre[0] - sphere[0], gy = centre[1] - sphere[1], gz = centre[2] - sphere[2];
       const double limit = reach + sphere[3];
       if (gx * gx + gy * gy + gz * gz > limit * limit) continue;
+      if (plane_distance(s.triangles[cand.triangle], centre) > reach) continue;  // its plane is out of reach
       const tmesh::Contact c = tmesh::closest_feature(s.triangles[cand.triangle], centre, s.precision);
       if (c.feature == tmesh::Feature::none) continue;
       const double deltan = c.distance - radius[i];
@@ -616,23 +654,31 @@ double *FixWallGranCorotating::handle_contact(int i, const Screw &screw, int tri
 {
   const int key = screw.key_offset + tri;
   int *keys = contact_key_[i];
-  for (int k = 0; k < max_contacts_; ++k)
+  // the slots holding keys, at most contact_count_[i] of them, scanned until all were seen
+  const int known = contact_count_[i];
+  for (int k = 0, seen = 0; k < max_contacts_ && seen < known; ++k) {
+    if (keys[k] < 0) continue;
+    ++seen;
     if (keys[k] == key) {
       contact_kept_[i][k] = 1;
       accepted = true;
       return history_size_ ? &contact_history_[i][k * history_size_] : nullptr;
     }
+  }
   auto is_coplanar_neighbour = [&](int other_key) {
     const int other = other_key - screw.key_offset;
     if (other < 0 || other >= static_cast<int>(screw.triangles.size())) return false;
     return std::binary_search(screw.coplanar.begin(tri), screw.coplanar.end(tri), other);
   };
   if (face)
-    for (int k = 0; k < max_contacts_; ++k)
-      if (keys[k] >= 0 && contact_kept_[i][k] && is_coplanar_neighbour(keys[k])) {
+    for (int k = 0, seen = 0; k < max_contacts_ && seen < known; ++k) {
+      if (keys[k] < 0) continue;
+      ++seen;
+      if (contact_kept_[i][k] && is_coplanar_neighbour(keys[k])) {
         accepted = false;
         return nullptr;
       }
+    }
   int slot = -1;
   for (int k = 0; k < max_contacts_ && slot < 0; ++k)
     if (keys[k] < 0) slot = k;
@@ -649,29 +695,40 @@ double *FixWallGranCorotating::handle_contact(int i, const Screw &screw, int tri
   if (history) {
     std::fill(history, history + history_size_, 0.0);
     if (face)
-      for (int k = 0; k < max_contacts_; ++k)
-        if (k != slot && keys[k] >= 0 && is_coplanar_neighbour(keys[k]))
+      for (int k = 0, seen = 0; k < max_contacts_ && seen < known; ++k) {
+        if (k == slot || keys[k] < 0) continue;
+        ++seen;
+        if (is_coplanar_neighbour(keys[k]))
           std::copy(&contact_history_[i][k * history_size_], &contact_history_[i][(k + 1) * history_size_], history);
+      }
   }
   accepted = true;
   return history;
 }
 
+// Only particles with contacts have marks to clear: a mark is set only with a key, and a key without
+// a mark is freed at the end of the step (most particles touch no mesh; sweeping all max_contacts
+// slots of every particle twice a step cost more than the contacts themselves: docs/performance.md).
 void FixWallGranCorotating::mark_all_contacts()
 {
-  for (int i = 0; i < atom->nlocal; ++i) std::fill(contact_kept_[i], contact_kept_[i] + max_contacts_, 0);
+  for (int i = 0; i < atom->nlocal; ++i)
+    if (contact_count_[i] > 0) std::fill(contact_kept_[i], contact_kept_[i] + max_contacts_, 0);
 }
 
 void FixWallGranCorotating::clean_up_contacts()
 {
-  for (int i = 0; i < atom->nlocal; ++i)
-    for (int k = 0; k < max_contacts_; ++k)
-      if (contact_key_[i][k] >= 0 && !contact_kept_[i][k]) {
-        contact_key_[i][k] = -1;
-        --contact_count_[i];
-        if (history_size_)
-          std::fill(&contact_history_[i][k * history_size_], &contact_history_[i][(k + 1) * history_size_], 0.0);
-      }
+  for (int i = 0; i < atom->nlocal; ++i) {
+    int left = contact_count_[i];  // keys still to be seen
+    for (int k = 0; k < max_contacts_ && left > 0; ++k) {
+      if (contact_key_[i][k] < 0) continue;
+      --left;
+      if (contact_kept_[i][k]) continue;
+      contact_key_[i][k] = -1;
+      --contact_count_[i];
+      if (history_size_)
+        std::fill(&contact_history_[i][k * history_size_], &contact_history_[i][(k + 1) * history_size_], 0.0);
+    }
+  }
 }
 
 bool FixWallGranCorotating::handles_mesh(const std::string &mesh_id) const

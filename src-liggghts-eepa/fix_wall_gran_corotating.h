@@ -79,8 +79,8 @@ class FixWallGranCorotating : public FixWallGran {
   double memory_usage() override;
 
  private:
-  // A screw triangle near one image of a particle, found with the reach plus the neighbour skin;
-  // reused until the particle has moved half a skin (in the lab or in a screw's frame).
+  // A screw triangle near one image of a particle, found with the reach plus the list skin;
+  // reused until the particle has moved beyond its margin in the lab or in a screw's frame.
   struct Candidate {
     int screw;
     int triangle;
@@ -118,11 +118,13 @@ class FixWallGranCorotating : public FixWallGran {
   void clean_up_contacts();
 
   std::vector<Screw> screws_;
-  // candidate lists per owned particle, valid until the particle has moved more than half a skin
-  // from where its list was built (lab frame or a screw's frame); they follow their particle to its
-  // new local index after re-neighbouring
+  // candidate lists per owned particle, valid until the particle has moved beyond its margin from
+  // where its list was built (lab frame or a screw's frame; build_candidates says how far); they
+  // follow their particle to its new local index after re-neighbouring
   std::vector<std::vector<Candidate>> candidates_;
-  std::vector<double> built_at_;  // per particle: lab position, then body position per screw
+  // per particle: lab position and squared margin, then body position and squared margin per screw
+  std::vector<double> built_at_;
+  size_t built_stride() const { return 4 + 4 * screws_.size(); }
   std::vector<tagint> list_owner_;  // atom ID of each list (local indices change at re-neighbouring)
   bool reindex_lists_ = false;
   // cost report when the fix is deleted: time in its own contact handling, list builds
@@ -143,8 +145,8 @@ class FixWallGranCorotating : public FixWallGran {
   int max_contacts_ = 64;
   int most_contacts_ = 0;  // largest number of contacts of one particle seen (reported)
   // candidate lists hold triangles within reach + list skin; default half the neighbour skin (the
-  // lists are rebuilt when a particle moves half of it in a screw's frame, where the screw's turning
-  // moves every particle: docs/rotating-screws.md has the measured trade-off)
+  // lists are rebuilt when a particle near a screw moves a list skin in its frame, where the screw's
+  // turning moves every particle: docs/rotating-screws.md has the measured trade-off)
   double list_skin_ = 0.0;
   double list_skin() const { return list_skin_ > 0.0 ? list_skin_ : 0.5 * neighbor->skin; }
   int dump_every_ = 0;

@@ -84,6 +84,35 @@ class TriangleTree {
     }
   }
 
+  // A lower bound on the distance from p to the nearest triangle, or `cap` when every triangle is
+  // farther than cap. Per triangle the bound is the larger of the gap to its leaf's box and
+  // |p − c| − r (bounding sphere); boxes no nearer than the best bound so far are skipped (branch
+  // and bound, nearer child first), so the cost stays near one root-to-leaf descent.
+  double clearance(const double *p, double cap) const {
+    double best = cap;
+    std::size_t stack[kMaxDepth];
+    std::size_t top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node &node = nodes_[stack[--top]];
+      const double gap = box_gap(node, p);
+      if (gap >= best) continue;
+      if (node.count > 0) {
+        for (std::size_t k = node.first; k < node.first + node.count; ++k) {
+          const double *sphere = &spheres_[4 * static_cast<std::size_t>(order_[k])];
+          const double dx = p[0] - sphere[0], dy = p[1] - sphere[1], dz = p[2] - sphere[2];
+          const double bound = std::max(gap, std::sqrt(dx * dx + dy * dy + dz * dz) - sphere[3]);
+          best = std::min(best, bound);
+        }
+      } else {
+        const bool first_nearer = box_gap(nodes_[node.first], p) <= box_gap(nodes_[node.second], p);
+        stack[top++] = first_nearer ? node.second : node.first;  // the nearer child is visited first
+        stack[top++] = first_nearer ? node.first : node.second;
+      }
+    }
+    return best;
+  }
+
   // bounding sphere of triangle i: centre xyz (node average), radius (largest node distance)
   const double *bounding_sphere(int i) const { return &spheres_[4 * static_cast<std::size_t>(i)]; }
 
@@ -100,6 +129,17 @@ class TriangleTree {
     double lo[3], hi[3];
     std::size_t first, second, count;
   };
+
+  // distance from p to the node's box (0 inside)
+  static double box_gap(const Node &node, const double *p) {
+    double gap2 = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      const double below = node.lo[d] - p[d], above = p[d] - node.hi[d];
+      const double gap = below > 0.0 ? below : (above > 0.0 ? above : 0.0);
+      gap2 += gap * gap;
+    }
+    return std::sqrt(gap2);
+  }
 
   // Median split of order_[begin, end) along the longest extent of the triangle centres.
   std::size_t build_node(const std::vector<Triangle> &triangles, std::size_t begin, std::size_t end) {

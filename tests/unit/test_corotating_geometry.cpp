@@ -231,6 +231,52 @@ TEST(TriangleTree, VisitsEveryTriangleWithinReachOnce) {
   EXPECT_EQ(count, 0);
 }
 
+TEST(TriangleTree, ClearanceIsALowerBoundWithinTheBoundingSpheres) {
+  // a tilted, folded strip of 2 x 30 x 10 triangles; points near it and far from it
+  std::vector<tmesh::Triangle> tris;
+  const double h = 0.3e-3;
+  auto z = [](double x, double y) { return 0.2 * x + (y > 1.5e-3 ? 0.5 * (y - 1.5e-3) : 0.0); };
+  for (int i = 0; i < 30; ++i)
+    for (int j = 0; j < 10; ++j) {
+      const double p00[3] = {i * h, j * h, z(i * h, j * h)}, p10[3] = {(i + 1) * h, j * h, z((i + 1) * h, j * h)};
+      const double p01[3] = {i * h, (j + 1) * h, z(i * h, (j + 1) * h)};
+      const double p11[3] = {(i + 1) * h, (j + 1) * h, z((i + 1) * h, (j + 1) * h)};
+      tris.push_back(make_triangle(p00, p10, p11));
+      tris.push_back(make_triangle(p00, p11, p01));
+    }
+  tmesh::TriangleTree tree;
+  tree.build(tris);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> ux(-1e-3, 10e-3), uy(-1e-3, 4e-3), uz(-1.5e-3, 3.5e-3);
+  const double cap = 0.8e-3;
+  int capped = 0, below_cap = 0;
+  for (int k = 0; k < 400; ++k) {
+    const double p[3] = {ux(rng), uy(rng), uz(rng)};
+    double nearest = 1e9, sphere_bound = 1e9;  // brute force: distance, and |p - c| - r
+    for (const tmesh::Triangle &t : tris) {
+      const tmesh::Contact hit = tmesh::closest_feature(t, p, 1e-8);  // every edge and corner active: exact
+      ASSERT_NE(hit.feature, tmesh::Feature::none);
+      nearest = std::min(nearest, hit.distance);
+      double c[3];
+      for (int d = 0; d < 3; ++d) c[d] = (t.node[0][d] + t.node[1][d] + t.node[2][d]) / 3.0;
+      sphere_bound = std::min(sphere_bound, std::sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
+                                                      (p[2] - c[2]) * (p[2] - c[2])) - t.bound_radius);
+    }
+    const double clearance = tree.clearance(p, cap);
+    EXPECT_LE(clearance, cap);
+    EXPECT_LE(clearance, nearest + 1e-12) << "not a lower bound at " << p[0] << " " << p[1] << " " << p[2];
+    EXPECT_GE(clearance, std::min(cap, sphere_bound) - 1e-12);
+    if (sphere_bound > cap) {
+      EXPECT_EQ(clearance, cap);
+      ++capped;
+    } else {
+      ++below_cap;
+    }
+  }
+  EXPECT_GT(capped, 20);
+  EXPECT_GT(below_cap, 100);
+}
+
 TEST(TriangleTree, RejectsAnEmptyMesh) {
   tmesh::TriangleTree tree;
   EXPECT_THROW(tree.build({}), std::invalid_argument);

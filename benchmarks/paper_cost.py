@@ -1,0 +1,268 @@
+"""Cost of the paper-scale (400 um) periodic case in motion: this build against a baseline lmp,
+side by side in one invocation.
+
+    .venv/bin/python benchmarks/paper_cost.py --baseline-lmp /work/lmp-main/lmp [--np 1 2] [--steps 400]
+        [--repeat 1] [--startup-steps 10000] [--work DIR] [--callgrind-steps 0]
+
+1. Prepare (once per --work directory): cases/run_case.py periodic --scale paper with no steps:
+   the 1 um meshes, the zones and the static fill (about 54 000 particles of 400 um, 2.3 g).
+2. Motion restart (once per --work directory, this build): the case runs --startup-steps from the
+   fill (screws turning, particles falling onto them and dragged along) and writes a restart file
+   (tens of MB: kept out of git, made here).
+3. Each lmp (baseline, this build; alternated, --repeat times, for each --np) reads the restart and
+   runs --steps steps of the case as it is: cases/include models, corotating screws and fixed
+   barrel, guards (fix check/contact), measurement fixes (element statistics, mass flow,
+   residence time), thermo every --thermo-every steps.
+Printed per run: LIGGGHTS' loop time, its breakdown (pair, neighbour lists, comm, output, fixes),
+the corotating fix's own contact time, particle-steps per second per core and core-hours per
+simulated second; then the ratio baseline / this build. With --callgrind-steps N it also counts
+the instructions of N steps' run loop (valgrind --tool=callgrind, serial), which do not depend on
+the machine's load. Records the machine (CPU model, cores, load), the commit and the command.
+Not a test: wall-clock numbers depend on the machine and its load.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import re
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+CASES = ROOT / "cases"
+# The guards stay on (their per-step cost is part of the case) but out of reach: the static paper
+# fill trips max_speed within a few steps (a particle touching a screw at phase 0; docs/stability.md).
+RELAXED_GUARDS = {"guard_max_speed": 1e9, "guard_max_pair_overlap": 1e9, "guard_max_wall_overlap": 1e9}
+
+BENCH_INPUT = """# benchmarks/paper_cost.py: the paper-scale periodic case continued from a restart taken in motion
+processors ${procs_x} 1 1
+read_restart ${restart_file}
+newton off
+neighbor ${skin} bin
+neigh_modify delay 0
+communicate single vel yes
+variable d_min equal ${d_min_value}
+include ${case_dir}/include/materials.in
+include ${case_dir}/include/models.in
+include ${case_dir}/include/geometry.in
+fix integrate all nve/sphere
+fix gravity all gravity 9.81 vector 0 0 -1
+include ${case_dir}/include/timestep.in
+variable analysis_lo equal ${x_lo}+${buffer}
+variable analysis_hi equal ${x_lo}+${domain_length}-${buffer}
+variable sensor_1 equal ${analysis_lo}
+variable sensor_2 equal ${analysis_hi}
+fix residence all residence/time zones ${zones_file} records ${out_dir}/residence.txt &
+    periodic ${analysis_lo} analysis ${analysis_lo} ${analysis_hi}
+include ${case_dir}/include/outputs.in
+thermo_style custom step time atoms ke f_check_contact[1] f_check_contact[4] v_escaped &
+    f_massflow[1] f_massflow[2] f_residence[2] f_residence[3] cpu
+thermo_modify norm no lost error
+thermo ${thermo_every}
+run ${bench_steps}
+"""
+
+RESTART_INPUT = """# benchmarks/paper_cost.py: start-up of the paper-scale periodic case, then a restart in motion
+include ${case_dir}/in.tsg_periodic
+write_restart ${restart_file}
+"""
+
+
+@dataclass
+class Result:
+    label: str
+    np: int
+    steps: int
+    atoms: int
+    loop_s: float
+    breakdown: dict[str, float]   # share of the loop time, %
+    fix_ms: float                 # corotating fix's own contact handling, ms/step (slowest rank)
+    dt: float
+
+    @property
+    def core_s_per_step(self) -> float:
+        return self.loop_s * self.np / self.steps
+
+    @property
+    def particle_steps_per_core_s(self) -> float:
+        return self.atoms / self.core_s_per_step
+
+    @property
+    def core_hours_per_sim_s(self) -> float:
+        return self.core_s_per_step / self.dt / 3600.0
+
+
+def mpi(lmp: str, np_ranks: int) -> list[str]:
+    if np_ranks <= 1:
+        return [lmp]
+    return ["mpirun", "-np", str(np_ranks), "--oversubscribe", "--allow-run-as-root", "--bind-to", "none", lmp]
+
+
+def lmp_run(command: list[str], workdir: Path, variables: dict[str, object]) -> str:
+    for name, value in variables.items():
+        command += ["-var", name, str(value)]
+    done = subprocess.run(command, cwd=workdir, capture_output=True, text=True, errors="replace",
+                          env=dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"))
+    log = (workdir / "log.lammps").read_text(errors="replace") if (workdir / "log.lammps").exists() else ""
+    if done.returncode != 0:
+        raise SystemExit(f"lmp failed in {workdir} (exit {done.returncode}):\n{done.stdout[-3000:]}\n{done.stderr[-2000:]}")
+    return log
+
+
+def prepare(work: Path, lmp: str) -> dict[str, object]:
+    """Meshes, zones and fill of the paper scale (run_case.py with no steps); the case variables."""
+    prepared = work / "prepared"
+    if not (prepared / "fill.in").exists():
+        subprocess.run([sys.executable, str(CASES / "run_case.py"), "periodic", "--scale", "paper", "--out", str(prepared),
+                        "-v", "t_startup", "0", "-v", "t_sample", "0"], check=True, capture_output=True, text=True,
+                       env=dict(os.environ, TSG_LMP=lmp))
+    log = (prepared / "log.lammps").read_text(errors="replace")
+    fill = (prepared / "fill.in").read_text()
+    return {"mesh_dir": re.search(r"mesh_dir=(\S+)", log).group(1), "zones_file": prepared / "zones.txt",
+            "fill_file": prepared / "fill.in", "d_mean": 0.0004, "dt_fraction": 0.1,
+            "d_min_value": re.search(r"variable d_min equal (\S+)", fill).group(1),
+            "dt": float(re.search(r"time step (\S+) s", log).group(1))}
+
+
+def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: int, thermo_every: int) -> Path:
+    restart = work / f"motion-{startup_steps}.restart"
+    if restart.exists():
+        return restart
+    run_dir = work / f"startup-{startup_steps}"
+    run_dir.mkdir(parents=True, exist_ok=True)
+    (run_dir / "in.restart").write_text(RESTART_INPUT)
+    dt = float(case["dt"])
+    variables = {"case_dir": CASES, "out_dir": run_dir, "restart_file": restart, "t_startup": startup_steps * dt,
+                 "t_sample": 0, "thermo_every": thermo_every, "stats_every": thermo_every, **RELAXED_GUARDS,
+                 **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file", "d_mean", "dt_fraction")}}
+    print(f"[restart] {startup_steps} steps ({1e3 * startup_steps * dt:.1f} ms) from the fill, 2 ranks ...", flush=True)
+    lmp_run(mpi(lmp, 2) + ["-in", "in.restart", "-log", "log.lammps", "-echo", "none"], run_dir, variables)
+    return restart
+
+
+def parse(label: str, np_ranks: int, log: str, dt: float) -> Result:
+    loop = re.findall(r"Loop time of (\S+) on \d+ procs for (\d+) steps with (\d+) atoms", log)[-1]
+    shares = {}
+    for name in ("Pair", "Neigh", "Comm", "Outpt", "Other"):  # LIGGGHTS 3.8 counts fixes in Other
+        found = re.findall(rf"^{name}\s+time \(%\) = \S+ \((\S+)\)", log, re.M)
+        shares[name] = float(found[-1]) if found else float("nan")
+    fix = re.findall(r"contact handling (\S+) ms/step", log)
+    return Result(label, np_ranks, int(loop[1]), int(loop[2]), float(loop[0]), shares,
+                  float(fix[-1]) if fix else float("nan"), dt)
+
+
+def bench(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, object], steps: int, thermo_every: int,
+          workdir: Path, wrapper: list[str] | None = None) -> tuple[Result, str]:
+    workdir.mkdir(parents=True, exist_ok=True)
+    (workdir / "in.bench").write_text(BENCH_INPUT)
+    variables = {"case_dir": CASES, "out_dir": workdir, "restart_file": restart, "bench_steps": steps,
+                 "thermo_every": thermo_every, "stats_every": thermo_every, "skin": 0.2 * float(case["d_mean"]),
+                 "procs_x": "*", "x_lo": 0.0, "domain_length": 0.0958333333333, "buffer": 0.00625, "rpm": 600,
+                 "screw_drive": "corotating", "cohesion": 0, "dump_every": 0, **RELAXED_GUARDS,
+                 **{k: case[k] for k in ("mesh_dir", "zones_file", "d_mean", "dt_fraction", "d_min_value")}}
+    command = (wrapper or []) + mpi(lmp, np_ranks) + ["-in", "in.bench", "-log", "log.lammps", "-echo", "none"]
+    log = lmp_run(command, workdir, variables)
+    return parse(label, np_ranks, log, float(case["dt"])), log
+
+
+def callgrind_instructions(label: str, lmp: str, restart: Path, case: dict[str, object], steps: int, workdir: Path) -> int:
+    out = workdir / "callgrind.out"
+    wrapper = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", "--collect-atstart=no",
+               "--toggle-collect=LAMMPS_NS::Verlet::run(int)"]
+    bench(label, lmp, 1, restart, case, steps, 10 * steps, workdir, wrapper)
+    summary = re.search(r"^summary:\s+(\d+)", out.read_text(errors="replace"), re.M)
+    return int(summary.group(1))
+
+
+def perf_profile(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, object], steps: int,
+                 thermo_every: int, workdir: Path) -> str:
+    """Shares of CPU samples by function (perf record -e cpu-clock, all ranks). The setup (reading
+    the meshes and the restart) is sampled too, under its own function names."""
+    out = workdir / "perf.data"
+    wrapper = ["perf", "record", "-q", "-F", "499", "-e", "cpu-clock", "-o", str(out), "--"]
+    bench(label, lmp, np_ranks, restart, case, steps, thermo_every, workdir, wrapper)
+    report = subprocess.run(["perf", "report", "--stdio", "-i", str(out), "--sort", "symbol", "--percent-limit", "0.7"],
+                            capture_output=True, text=True).stdout
+    return "\n".join(line for line in report.splitlines() if line.strip() and not line.startswith("#"))
+
+
+def machine() -> str:
+    model = "unknown CPU"
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("model name"):
+            model = line.split(":", 1)[1].strip()
+            break
+    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"], capture_output=True,
+                           text=True).stdout.strip()
+    load = " ".join(f"{v:.2f}" for v in os.getloadavg())
+    return (f"{model}, {os.cpu_count()} cores, load average {load}, {platform.node()}; commit {commit}"
+            f"{' (uncommitted changes)' if dirty else ''}; {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--baseline-lmp", required=True, help="the lmp to compare with (e.g. a copy of main's)")
+    parser.add_argument("--lmp", default=os.environ.get("TSG_LMP", str(ROOT / "build" / "lmp")), help="this build's lmp")
+    parser.add_argument("--np", type=int, nargs="+", default=[1, 2], help="MPI ranks (each measured)")
+    parser.add_argument("--steps", type=int, default=400)
+    parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--startup-steps", type=int, default=10000, help="steps from the fill before the restart")
+    parser.add_argument("--thermo-every", type=int, default=200)
+    parser.add_argument("--callgrind-steps", type=int, default=0, help="also count instructions of N steps (serial)")
+    parser.add_argument("--profile-steps", type=int, default=0,
+                        help="also profile N steps with perf record (each variant, each --np)")
+    parser.add_argument("--work", type=Path, default=None, help="keeps the prepared fill and the restart between calls")
+    args = parser.parse_args(argv)
+    work = args.work or Path(tempfile.mkdtemp(prefix="paper_cost_"))
+    work.mkdir(parents=True, exist_ok=True)
+    print(f"command: {' '.join(shlex.quote(a) for a in [sys.executable] + sys.argv)}")
+    print(f"machine: {machine()}", flush=True)
+    case = prepare(work, args.lmp)
+    restart = make_restart(work, args.lmp, case, args.startup_steps, args.thermo_every)
+    print(f"restart: {restart} ({restart.stat().st_size / 1e6:.0f} MB), time step {float(case['dt']):.4g} s", flush=True)
+    variants = {"baseline": args.baseline_lmp, "this": args.lmp}
+    results: dict[tuple[str, int], list[Result]] = {}
+    print("wall-clock numbers below were measured on this machine under its current load (see load average)")
+    print(f"{'run':<14}{'ranks':>6}{'atoms':>8}{'ms/step':>9}{'core-ms/step':>13}{'Mpart-steps/core-s':>20}"
+          f"{'core-h/sim-s':>14}{'fix ms/step':>12}  pair/neigh/comm/outpt/other %")
+    for repeat in range(args.repeat):
+        for np_ranks in args.np:
+            for label, lmp in variants.items():
+                r, _ = bench(label, lmp, np_ranks, restart, case, args.steps, args.thermo_every,
+                             work / f"{label}-np{np_ranks}-{repeat}")
+                results.setdefault((label, np_ranks), []).append(r)
+                shares = "/".join(f"{v:.1f}" for v in r.breakdown.values())
+                print(f"{label + ' #' + str(repeat):<14}{np_ranks:>6}{r.atoms:>8}{1e3 * r.loop_s / r.steps:>9.3f}"
+                      f"{1e3 * r.core_s_per_step:>13.3f}{r.particle_steps_per_core_s / 1e6:>20.3f}"
+                      f"{r.core_hours_per_sim_s:>14.2f}{r.fix_ms:>12.3f}  {shares}", flush=True)
+    for np_ranks in args.np:
+        base = min(r.core_s_per_step for r in results[("baseline", np_ranks)])
+        mine = min(r.core_s_per_step for r in results[("this", np_ranks)])
+        print(f"{np_ranks} rank(s): core-seconds per step, baseline / this = {base / mine:.2f} (best of {args.repeat}, "
+              f"{args.steps} steps, under load)")
+    if args.callgrind_steps > 0:
+        counts = {label: callgrind_instructions(label, lmp, restart, case, args.callgrind_steps, work / f"callgrind-{label}")
+                  for label, lmp in variants.items()}
+        for label, count in counts.items():
+            print(f"callgrind {label:<9}: {count / args.callgrind_steps / 1e6:.1f} M instructions per step "
+                  f"(run loop, serial, {args.callgrind_steps} steps)")
+        print(f"callgrind: baseline / this = {counts['baseline'] / counts['this']:.2f} (instructions; independent of load)")
+    if args.profile_steps > 0:
+        for np_ranks in args.np:
+            for label, lmp in variants.items():
+                print(f"--- perf profile: {label}, {np_ranks} rank(s), {args.profile_steps} steps (CPU samples by function)")
+                print(perf_profile(label, lmp, np_ranks, restart, case, args.profile_steps, args.thermo_every,
+                                   work / f"perf-{label}-np{np_ranks}"), flush=True)
+    print(f"machine at the end: {machine()}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
