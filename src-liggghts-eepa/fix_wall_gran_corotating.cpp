@@ -40,7 +40,8 @@ constexpr double kCoplanarCurvature = 1.0 - 1e-5;
 // may lie at most this fraction of its largest radius from the axis
 constexpr double kAxisTolerance = 0.01;
 
-std::string number(double v) {
+std::string number(double v)
+{
   char buf[32];
   snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
@@ -167,10 +168,10 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
       continue;
     }
     if (key != "corotate")
-      fail("unknown keyword '" + key + "' after the wall/gran arguments (allowed: corotate, fixed, max_contacts, "
+      fail("unknown keyword '" + key +
+           "' after the wall/gran arguments (allowed: corotate, fixed, max_contacts, "
            "list_skin, screw_dump)");
-    if (iarg + 11 > narg)
-      fail("corotate needs: <mesh fix ID> origin x y z axis ax ay az period T");
+    if (iarg + 11 > narg) fail("corotate needs: <mesh fix ID> origin x y z axis ax ay az period T");
     Screw s;
     s.mesh_id = arg[iarg + 1];
     if (strcmp(arg[iarg + 2], "origin") || strcmp(arg[iarg + 6], "axis") || strcmp(arg[iarg + 10], "period"))
@@ -190,7 +191,8 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
     if (iarg + 12 > narg) fail("corotate " + s.mesh_id + ": period needs a value");
     const double period = value(iarg + 11, "period");
     if (period == 0.0)
-      fail("corotate " + s.mesh_id + ": period = 0 is not allowed (seconds per revolution, non-zero; "
+      fail("corotate " + s.mesh_id +
+           ": period = 0 is not allowed (seconds per revolution, non-zero; "
            "negative turns the other way)");
     s.motion.omega = 2.0 * M_PI / period;  // as fix move/mesh rotate
     add_mesh(s);
@@ -221,10 +223,12 @@ void FixWallGranCorotating::init()
   for (const Screw &s : screws_) {
     FixMeshSurface *mesh = all_meshes_[s.list_index];
     if (mesh->mesh()->isMoving())
-      fail("mesh '" + s.mesh_id + "' is also moved by another fix (move/mesh); a corotating screw is turned "
+      fail("mesh '" + s.mesh_id +
+           "' is also moved by another fix (move/mesh); a corotating screw is turned "
            "by this fix alone and must not be moved otherwise");
     if (mesh->trackStress() || mesh->meshMulticontactData())
-      fail("mesh '" + s.mesh_id + "': stress tracking and multicontact are not supported for corotating meshes "
+      fail("mesh '" + s.mesh_id +
+           "': stress tracking and multicontact are not supported for corotating meshes "
            "(the screw's force and torque are this fix's output vector)");
   }
   if (cwl_) fail("compute wall/gran/local does not see corotating meshes");
@@ -247,7 +251,7 @@ void FixWallGranCorotating::gather_triangles(Screw &screw)
 {
   TriMesh *mesh = all_meshes_[screw.list_index]->triMesh();
   const int nowned = mesh->sizeLocal();
-  ScalarContainer<int> *obtuse = mesh->prop().getElementProperty<ScalarContainer<int> >("obtuseAngleIndex");
+  ScalarContainer<int> *obtuse = mesh->prop().getElementProperty<ScalarContainer<int>>("obtuseAngleIndex");
   if (!obtuse) fail("mesh '" + screw.mesh_id + "' has no obtuse-angle data");
   std::vector<double> mine(static_cast<size_t>(nowned) * kValuesPerTriangle);
   for (int i = 0; i < nowned; ++i) {
@@ -352,10 +356,7 @@ int FixWallGranCorotating::setmask()
   return mask;
 }
 
-void FixWallGranCorotating::end_of_step()
-{
-  write_screw_dumps();
-}
+void FixWallGranCorotating::end_of_step() { write_screw_dumps(); }
 
 // Legacy VTK polydata of each screw in its pose at this step, written by rank 0 (every rank holds
 // the whole screw).
@@ -496,8 +497,10 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
     if (!periodic[d]) continue;
     const double below = xi[d] - domain->boxlo[d], above = domain->boxhi[d] - xi[d];
     signed char shift = 0;
-    if (below < reach) shift = 1;
-    else if (above < reach) shift = -1;
+    if (below < reach)
+      shift = 1;
+    else if (above < reach)
+      shift = -1;
     const double uncovered = shift == 1 ? above : (shift == -1 ? below : std::min(below, above));
     lab_margin = std::min(lab_margin, uncovered - contact_reach);
     if (shift == 0) continue;
@@ -532,7 +535,8 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
       });
       // every triangle left out is farther than reach + skin (sphere, box or plane), and none is
       // nearer than the clearance
-      const double clear = list.size() > before ? 0.0 : screw.tree.clearance(centre, cap + contact_reach) - contact_reach;
+      const double clear =
+          list.size() > before ? 0.0 : screw.tree.clearance(centre, cap + contact_reach) - contact_reach;
       margin = std::min(margin, std::max(skin, clear));
     }
     frame[3] = margin * margin;
@@ -613,8 +617,7 @@ void FixWallGranCorotating::corotating_contacts()
       const double deltan = c.distance - radius[i];
       if (!(deltan <= 0.0 || deltan < touch_factor * radius[i])) continue;
       const bool intersect = deltan <= 0.0;
-      if (-deltan > s.deepest.overlap_ratio * radius[i])
-        s.deepest = {-deltan / radius[i], atom->tag[i]};
+      if (-deltan > s.deepest.overlap_ratio * radius[i]) s.deepest = {-deltan / radius[i], atom->tag[i]};
       bool accepted = false;
       double *history = handle_contact(i, s, cand.triangle, c.feature == tmesh::Feature::face, accepted);
       if (!accepted) continue;
@@ -844,10 +847,10 @@ void FixWallGranCorotating::unpack_restart(int nlocal, int nth)
   for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
   const int count = static_cast<int>(extra[nlocal][m + 1]);
   if (count > max_contacts_)
-    error->one(FLERR, (std::string("fix ") + id + " wall/gran/corotating: the restart file holds " +
-                       std::to_string(count) + " screw contacts for a particle, more than max_contacts = " +
-                       std::to_string(max_contacts_))
-                          .c_str());
+    error->one(FLERR,
+               (std::string("fix ") + id + " wall/gran/corotating: the restart file holds " + std::to_string(count) +
+                " screw contacts for a particle, more than max_contacts = " + std::to_string(max_contacts_))
+                   .c_str());
   unpack_exchange(nlocal, &extra[nlocal][m + 1]);
 }
 
@@ -880,7 +883,8 @@ void FixWallGranCorotating::restart(char *buf)
 
 double FixWallGranCorotating::memory_usage()
 {
-  double bytes = static_cast<double>(atom->nmax) * max_contacts_ * (sizeof(int) + sizeof(char) + history_size_ * sizeof(double));
+  double bytes =
+      static_cast<double>(atom->nmax) * max_contacts_ * (sizeof(int) + sizeof(char) + history_size_ * sizeof(double));
   for (const Screw &s : screws_)
     bytes += s.triangles.size() * sizeof(tmesh::Triangle) + s.tree.memory_bytes() +
              s.coplanar.items.size() * sizeof(int) + s.coplanar.offsets.size() * sizeof(std::int64_t);

@@ -22,26 +22,29 @@
 // Design and measurements: docs/rotating-screws.md.
 #ifdef FIX_CLASS
 
-FixStyle(wall/gran/corotating, FixWallGranCorotating)
+// clang-format off
+FixStyle(wall/gran/corotating,FixWallGranCorotating)
+// clang-format on
 
 #else
 
-#ifndef LMP_FIX_WALL_GRAN_COROTATING_H
-#define LMP_FIX_WALL_GRAN_COROTATING_H
+#ifndef TSG_FIX_WALL_GRAN_COROTATING_H
+#define TSG_FIX_WALL_GRAN_COROTATING_H
 
 #include <string>
 #include <vector>
 
 #include "fix_wall_gran.h"
 #include "neighbor.h"
-#include "physics/rigid_rotation.h"
-#include "physics/triangle_contact.h"
-#include "physics/triangle_lookup.h"
+
+#include "rigid_rotation.h"
+#include "triangle_contact.h"
+#include "triangle_lookup.h"
 
 namespace LAMMPS_NS {
 
 class FixWallGranCorotating : public FixWallGran {
- public:
+public:
   FixWallGranCorotating(class LAMMPS *, int, char **);
   ~FixWallGranCorotating() override;
 
@@ -78,7 +81,7 @@ class FixWallGranCorotating : public FixWallGran {
   void restart(char *buf) override;
   double memory_usage() override;
 
- private:
+private:
   // A screw triangle near one image of a particle, found with the reach plus the list skin;
   // reused until the particle has moved beyond its margin in the lab or in a screw's frame.
   struct Candidate {
@@ -88,14 +91,14 @@ class FixWallGranCorotating : public FixWallGran {
   };
   struct Screw {
     std::string mesh_id;
-    bool turning = true;                  // false: a 'fixed' mesh (ω = 0, no axis check)
-    int list_index = -1;                  // position in FixMesh_list_
-    tsg::rotation::RigidRotation motion;  // axis through origin, angular speed
+    bool turning = true;                            // false: a 'fixed' mesh (ω = 0, no axis check)
+    int list_index = -1;                            // position in FixMesh_list_
+    tsg::rotation::RigidRotation motion;            // axis through origin, angular speed
     std::vector<tsg::trimesh::Triangle> triangles;  // in the screw's own frame (as given), sorted by mesh id
     tsg::trimesh::TriangleTree tree;
     tsg::trimesh::CompressedLists coplanar;
-    double precision = 0.0;  // the mesh's precision (fix mesh/surface)
-    int key_offset = 0;      // contact keys of this screw: key_offset + triangle index
+    double precision = 0.0;               // the mesh's precision (fix mesh/surface)
+    int key_offset = 0;                   // contact keys of this screw: key_offset + triangle index
     double load[6] = {0, 0, 0, 0, 0, 0};  // force on the screw and torque about its origin, this rank
     double angle = 0.0;                   // θ at the last force evaluation
     DeepestContact deepest;               // since the last take_deepest()

@@ -5,7 +5,8 @@
 // R(θ) is Rodrigues' matrix  R = cos θ I + sin θ [a]× + (1 − cos θ) a aᵀ.
 // The angle is always computed from the elapsed time (never by adding increments), so the phase
 // does not drift over long runs. The surface velocity of the body at a lab point c is ω a × (c − p).
-#pragma once
+#ifndef TSG_RIGID_ROTATION_H
+#define TSG_RIGID_ROTATION_H
 
 #include <cmath>
 
@@ -25,18 +26,21 @@ inline double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
 // Row-major 3×3 matrix.
 struct Mat3 {
   double m[3][3];
-  Vec3 apply(Vec3 v) const {
+  Vec3 apply(Vec3 v) const
+  {
     return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
             m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
   }
-  Vec3 apply_transpose(Vec3 v) const {
+  Vec3 apply_transpose(Vec3 v) const
+  {
     return {m[0][0] * v.x + m[1][0] * v.y + m[2][0] * v.z, m[0][1] * v.x + m[1][1] * v.y + m[2][1] * v.z,
             m[0][2] * v.x + m[1][2] * v.y + m[2][2] * v.z};
   }
 };
 
 // Rodrigues' rotation matrix for the angle theta about the unit vector axis.
-inline Mat3 rotation_matrix(Vec3 axis, double theta) {
+inline Mat3 rotation_matrix(Vec3 axis, double theta)
+{
   const double c = std::cos(theta), s = std::sin(theta), k = 1.0 - c;
   const double x = axis.x, y = axis.y, z = axis.z;
   return {{{c + k * x * x, k * x * y - s * z, k * x * z + s * y},
@@ -62,3 +66,5 @@ struct RigidRotation {
 };
 
 }  // namespace tsg::rotation
+
+#endif

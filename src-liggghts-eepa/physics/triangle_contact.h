@@ -11,7 +11,8 @@
 //     this triangle the contact is left to the triangle that owns it (no double counting);
 //   - at a corner whose angle is obtuse the closest feature may be one of the two adjacent edges.
 // The result is the vector from the sphere centre to the closest point of the active feature.
-#pragma once
+#ifndef TSG_TRIANGLE_CONTACT_H
+#define TSG_TRIANGLE_CONTACT_H
 
 #include <cmath>
 
@@ -24,9 +25,9 @@ struct Triangle {
   double node[3][3];
   double edge_unit[3][3];  // edge k: unit vector from node k to node (k+1) mod 3
   double edge_length[3];
-  double normal[3];        // unit
-  int obtuse_corner;       // index of the corner with an obtuse angle, -1 if none
-  double bound_radius;     // largest distance of a node from the node average
+  double normal[3];     // unit
+  int obtuse_corner;    // index of the corner with an obtuse angle, -1 if none
+  double bound_radius;  // largest distance of a node from the node average
   bool edge_active[3];
   bool corner_active[3];
 };
@@ -35,14 +36,15 @@ enum class Feature { none, face, edge, corner };
 
 struct Contact {
   Feature feature = Feature::none;
-  double distance = 0.0;    // |closest point − centre|
+  double distance = 0.0;        // |closest point − centre|
   double delta[3] = {0, 0, 0};  // closest point − centre
 };
 
 namespace detail {
 inline double dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-inline Contact to_point(const double *centre, const double *point, Feature feature) {
+inline Contact to_point(const double *centre, const double *point, Feature feature)
+{
   Contact c;
   c.feature = feature;
   for (int k = 0; k < 3; ++k) c.delta[k] = point[k] - centre[k];
@@ -50,13 +52,15 @@ inline Contact to_point(const double *centre, const double *point, Feature featu
   return c;
 }
 
-inline Contact corner(const Triangle &t, int k, const double *centre) {
+inline Contact corner(const Triangle &t, int k, const double *centre)
+{
   if (!t.corner_active[k]) return {};
   return to_point(centre, t.node[k], Feature::corner);
 }
 
 // point at distance `along` from node `base` in the direction of edge k, if edge k is active
-inline Contact edge_point(const Triangle &t, int k, int base, double along, const double *centre) {
+inline Contact edge_point(const Triangle &t, int k, int base, double along, const double *centre)
+{
   if (!t.edge_active[k]) return {};
   double point[3];
   for (int d = 0; d < 3; ++d) point[d] = t.node[base][d] + along * t.edge_unit[k][d];
@@ -64,7 +68,8 @@ inline Contact edge_point(const Triangle &t, int k, int base, double along, cons
 }
 
 // centre beyond edge k only: the closest point is on the edge or at one of its ends
-inline Contact beyond_edge(const Triangle &t, int k, const double *centre) {
+inline Contact beyond_edge(const Triangle &t, int k, const double *centre)
+{
   const int next = (k + 1) % 3;
   double rel[3];
   for (int d = 0; d < 3; ++d) rel[d] = centre[d] - t.node[k][d];
@@ -75,7 +80,8 @@ inline Contact beyond_edge(const Triangle &t, int k, const double *centre) {
 }
 
 // centre beyond the two edges meeting at corner k; an obtuse corner may still be closest to an edge
-inline Contact beyond_corner(const Triangle &t, int k, const double *centre) {
+inline Contact beyond_corner(const Triangle &t, int k, const double *centre)
+{
   const int next = (k + 1) % 3, prev = (k + 2) % 3;
   if (t.obtuse_corner == k) {
     double rel[3];
@@ -98,7 +104,8 @@ inline Contact beyond_corner(const Triangle &t, int k, const double *centre) {
 
 // Closest active feature of the triangle to the sphere centre `centre` (body frame), with the
 // mesh precision `precision` (LIGGGHTS' fix mesh/surface precision, default 1e-8 m).
-inline Contact closest_feature(const Triangle &t, const double *centre, double precision) {
+inline Contact closest_feature(const Triangle &t, const double *centre, double precision)
+{
   double rel[3];
   for (int d = 0; d < 3; ++d) rel[d] = centre[d] - t.node[0][d];
   // barycentric coordinates from the projections on edges 0 and 2 (both unit vectors)
@@ -118,14 +125,23 @@ inline Contact closest_feature(const Triangle &t, const double *centre, double p
       for (int d = 0; d < 3; ++d) foot[d] = centre[d] - height * t.normal[d];
       return detail::to_point(centre, foot, Feature::face);
     }
-    case 3: return detail::beyond_edge(t, 0, centre);
-    case 6: return detail::beyond_edge(t, 1, centre);
-    case 5: return detail::beyond_edge(t, 2, centre);
-    case 1: return detail::beyond_corner(t, 0, centre);
-    case 2: return detail::beyond_corner(t, 1, centre);
-    case 4: return detail::beyond_corner(t, 2, centre);
-    default: return {};  // region 0 cannot occur for a non-degenerate triangle
+    case 3:
+      return detail::beyond_edge(t, 0, centre);
+    case 6:
+      return detail::beyond_edge(t, 1, centre);
+    case 5:
+      return detail::beyond_edge(t, 2, centre);
+    case 1:
+      return detail::beyond_corner(t, 0, centre);
+    case 2:
+      return detail::beyond_corner(t, 1, centre);
+    case 4:
+      return detail::beyond_corner(t, 2, centre);
+    default:
+      return {};  // region 0 cannot occur for a non-degenerate triangle
   }
 }
 
 }  // namespace tsg::trimesh
+
+#endif

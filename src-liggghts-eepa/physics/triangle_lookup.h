@@ -7,7 +7,8 @@
 //   - coplanar_node_neighbours: for each triangle, the triangles that share a node with it and are
 //     coplanar (|n_a · n_b| > curvature), as LIGGGHTS' areCoplanarNodeNeighs decides; the contact
 //     history uses them so that a particle sliding over a flat region keeps one contact.
-#pragma once
+#ifndef TSG_TRIANGLE_LOOKUP_H
+#define TSG_TRIANGLE_LOOKUP_H
 
 #include <algorithm>
 #include <array>
@@ -33,10 +34,11 @@ struct CompressedLists {
 };
 
 class TriangleTree {
- public:
+public:
   // Builds the tree over the triangles (indices into `triangles`); throws std::invalid_argument for
   // an empty mesh.
-  void build(const std::vector<Triangle> &triangles) {
+  void build(const std::vector<Triangle> &triangles)
+  {
     if (triangles.empty()) throw std::invalid_argument("triangle tree: the mesh has no triangles");
     const std::size_t n = triangles.size();
     spheres_.resize(4 * n);
@@ -55,7 +57,8 @@ class TriangleTree {
   // Calls visit(i) for every triangle i whose bounding sphere comes within `reach` of the point p
   // (a superset of the triangles within reach of p), in a fixed order.
   template <class Visit>
-  void for_each_near(const double *p, double reach, Visit visit) const {
+  void for_each_near(const double *p, double reach, Visit visit) const
+  {
     const double reach2 = reach * reach;
     std::size_t stack[kMaxDepth];
     std::size_t top = 0;
@@ -88,7 +91,8 @@ class TriangleTree {
   // farther than cap. Per triangle the bound is the larger of the gap to its leaf's box and
   // |p − c| − r (bounding sphere); boxes no nearer than the best bound so far are skipped (branch
   // and bound, nearer child first), so the cost stays near one root-to-leaf descent.
-  double clearance(const double *p, double cap) const {
+  double clearance(const double *p, double cap) const
+  {
     double best = cap;
     std::size_t stack[kMaxDepth];
     std::size_t top = 0;
@@ -117,11 +121,12 @@ class TriangleTree {
   const double *bounding_sphere(int i) const { return &spheres_[4 * static_cast<std::size_t>(i)]; }
 
   std::size_t nodes() const { return nodes_.size(); }
-  std::size_t memory_bytes() const {
+  std::size_t memory_bytes() const
+  {
     return nodes_.size() * sizeof(Node) + order_.size() * sizeof(int) + spheres_.size() * sizeof(double);
   }
 
- private:
+private:
   static constexpr std::size_t kLeafSize = 4;
   static constexpr std::size_t kMaxDepth = 128;
   // inner node: first/second = child node indices, count = 0; leaf: triangles order_[first, first + count)
@@ -131,7 +136,8 @@ class TriangleTree {
   };
 
   // distance from p to the node's box (0 inside)
-  static double box_gap(const Node &node, const double *p) {
+  static double box_gap(const Node &node, const double *p)
+  {
     double gap2 = 0.0;
     for (int d = 0; d < 3; ++d) {
       const double below = node.lo[d] - p[d], above = p[d] - node.hi[d];
@@ -142,7 +148,8 @@ class TriangleTree {
   }
 
   // Median split of order_[begin, end) along the longest extent of the triangle centres.
-  std::size_t build_node(const std::vector<Triangle> &triangles, std::size_t begin, std::size_t end) {
+  std::size_t build_node(const std::vector<Triangle> &triangles, std::size_t begin, std::size_t end)
+  {
     const std::size_t index = nodes_.size();
     nodes_.push_back(Node{});
     Node node{};
@@ -154,7 +161,8 @@ class TriangleTree {
     for (std::size_t k = begin; k < end; ++k) {
       const int tri = order_[k];
       for (int d = 0; d < 3; ++d) {
-        for (const auto &n : triangles[tri].node) node.lo[d] = std::min(node.lo[d], n[d]), node.hi[d] = std::max(node.hi[d], n[d]);
+        for (const auto &n : triangles[tri].node)
+          node.lo[d] = std::min(node.lo[d], n[d]), node.hi[d] = std::max(node.hi[d], n[d]);
         const double c = spheres_[4 * static_cast<std::size_t>(tri) + d];
         centre_lo[d] = std::min(centre_lo[d], c), centre_hi[d] = std::max(centre_hi[d], c);
       }
@@ -168,7 +176,8 @@ class TriangleTree {
     for (int d = 1; d < 3; ++d)
       if (centre_hi[d] - centre_lo[d] > centre_hi[axis] - centre_lo[axis]) axis = d;
     const std::size_t middle = begin + (end - begin) / 2;
-    std::nth_element(order_.begin() + static_cast<std::ptrdiff_t>(begin), order_.begin() + static_cast<std::ptrdiff_t>(middle),
+    std::nth_element(order_.begin() + static_cast<std::ptrdiff_t>(begin),
+                     order_.begin() + static_cast<std::ptrdiff_t>(middle),
                      order_.begin() + static_cast<std::ptrdiff_t>(end), [&](int a, int b) {
                        const double ca = spheres_[4 * static_cast<std::size_t>(a) + axis];
                        const double cb = spheres_[4 * static_cast<std::size_t>(b) + axis];
@@ -182,12 +191,13 @@ class TriangleTree {
   }
 
   std::vector<Node> nodes_;
-  std::vector<int> order_;        // triangle indices, grouped by leaf
-  std::vector<double> spheres_;   // centre xyz, bound radius per triangle
+  std::vector<int> order_;       // triangle indices, grouped by leaf
+  std::vector<double> spheres_;  // centre xyz, bound radius per triangle
 };
 
 // Triangles sharing at least one node (identical coordinates) with triangle i and coplanar with it.
-inline CompressedLists coplanar_node_neighbours(const std::vector<Triangle> &triangles, double curvature) {
+inline CompressedLists coplanar_node_neighbours(const std::vector<Triangle> &triangles, double curvature)
+{
   std::map<std::array<double, 3>, std::vector<int>> at_node;
   for (int tri = 0; tri < static_cast<int>(triangles.size()); ++tri)
     for (const auto &n : triangles[tri].node) at_node[{n[0], n[1], n[2]}].push_back(tri);
@@ -212,3 +222,5 @@ inline CompressedLists coplanar_node_neighbours(const std::vector<Triangle> &tri
 }
 
 }  // namespace tsg::trimesh
+
+#endif

@@ -4,8 +4,8 @@
 // rotations, brute-force minimisation over a dense sampling of the triangle, and exhaustive search.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -18,7 +18,8 @@ namespace tmesh = tsg::trimesh;
 
 namespace {
 
-tmesh::Triangle make_triangle(const double a[3], const double b[3], const double c[3]) {
+tmesh::Triangle make_triangle(const double a[3], const double b[3], const double c[3])
+{
   tmesh::Triangle t{};
   const double *n[3] = {a, b, c};
   double centre[3] = {0, 0, 0};
@@ -54,7 +55,8 @@ tmesh::Triangle make_triangle(const double a[3], const double b[3], const double
 }
 
 // distance from p to the triangle by dense sampling of barycentric coordinates (independent)
-double sampled_distance(const tmesh::Triangle &t, const double p[3], int samples = 600) {
+double sampled_distance(const tmesh::Triangle &t, const double p[3], int samples = 600)
+{
   double best = 1e300;
   for (int i = 0; i <= samples; ++i)
     for (int j = 0; i + j <= samples; ++j) {
@@ -71,7 +73,8 @@ double sampled_distance(const tmesh::Triangle &t, const double p[3], int samples
 
 }  // namespace
 
-TEST(RigidRotation, QuarterTurnAboutXMapsYToZ) {
+TEST(RigidRotation, QuarterTurnAboutXMapsYToZ)
+{
   const rot::Mat3 r = rot::rotation_matrix({1, 0, 0}, M_PI / 2);
   const rot::Vec3 y = r.apply({0, 1, 0});
   EXPECT_NEAR(y.x, 0.0, 1e-15);
@@ -79,7 +82,8 @@ TEST(RigidRotation, QuarterTurnAboutXMapsYToZ) {
   EXPECT_NEAR(y.z, 1.0, 1e-15);
 }
 
-TEST(RigidRotation, MatrixIsOrthonormalAndTransposeUndoesIt) {
+TEST(RigidRotation, MatrixIsOrthonormalAndTransposeUndoesIt)
+{
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int k = 0; k < 100; ++k) {
@@ -95,7 +99,8 @@ TEST(RigidRotation, MatrixIsOrthonormalAndTransposeUndoesIt) {
   }
 }
 
-TEST(RigidRotation, BodyAndLabFramesAreInverse) {
+TEST(RigidRotation, BodyAndLabFramesAreInverse)
+{
   const rot::RigidRotation screw{{0.0, -0.009655, 0.0}, {1, 0, 0}, 2 * M_PI / 0.1};
   const rot::Mat3 pose = rot::rotation_matrix(screw.axis, screw.angle(0.0123));
   const rot::Vec3 lab{0.01, 0.002, -0.004};
@@ -107,7 +112,8 @@ TEST(RigidRotation, BodyAndLabFramesAreInverse) {
   EXPECT_NEAR(std::hypot(body.y - screw.origin.y, body.z), std::hypot(lab.y - screw.origin.y, lab.z), 1e-17);
 }
 
-TEST(RigidRotation, SurfaceVelocityIsOmegaCrossRadius) {
+TEST(RigidRotation, SurfaceVelocityIsOmegaCrossRadius)
+{
   // 600 rpm about +x through (0, a, 0): a point at radius 10 mm straight above the axis (+z) moves
   // towards -y at ω r
   const double omega = 2 * M_PI * 10.0;
@@ -118,7 +124,8 @@ TEST(RigidRotation, SurfaceVelocityIsOmegaCrossRadius) {
   EXPECT_NEAR(v.z, 0.0, 1e-15);
 }
 
-TEST(RigidRotation, PhaseFromTimeDoesNotDriftWhereIncrementsDo) {
+TEST(RigidRotation, PhaseFromTimeDoesNotDriftWhereIncrementsDo)
+{
   // 10 million steps of 2.5e-6 s at 600 rpm (25 s, 250 revolutions)
   const double omega = 2 * M_PI / 0.1, dt = 2.5e-6;
   const long steps = 10000000;
@@ -132,7 +139,8 @@ TEST(RigidRotation, PhaseFromTimeDoesNotDriftWhereIncrementsDo) {
   EXPECT_GT(std::fabs(accumulated - exact), 100 * std::fabs(from_time - exact));
 }
 
-TEST(TriangleContact, FaceEdgeAndCornerDistancesMatchBruteForce) {
+TEST(TriangleContact, FaceEdgeAndCornerDistancesMatchBruteForce)
+{
   const double a[3] = {0, 0, 0}, b[3] = {1e-3, 0, 0}, c[3] = {0.3e-3, 0.8e-3, 0};
   const tmesh::Triangle t = make_triangle(a, b, c);
   std::mt19937_64 rng(5);
@@ -153,7 +161,8 @@ TEST(TriangleContact, FaceEdgeAndCornerDistancesMatchBruteForce) {
   EXPECT_GT(features[3], 10);  // corner
 }
 
-TEST(TriangleContact, ObtuseCornerRegionCanBeClosestToAnEdge) {
+TEST(TriangleContact, ObtuseCornerRegionCanBeClosestToAnEdge)
+{
   // obtuse at node 0: points beyond both edges at node 0 but closest to an edge interior
   const double a[3] = {0, 0, 0}, b[3] = {1e-3, 0.1e-3, 0}, c[3] = {-1e-3, 0.1e-3, 0};
   const tmesh::Triangle t = make_triangle(a, b, c);
@@ -167,7 +176,8 @@ TEST(TriangleContact, ObtuseCornerRegionCanBeClosestToAnEdge) {
   }
 }
 
-TEST(TriangleContact, InactiveEdgesAndCornersAreLeftToTheirOwner) {
+TEST(TriangleContact, InactiveEdgesAndCornersAreLeftToTheirOwner)
+{
   const double a[3] = {0, 0, 0}, b[3] = {1e-3, 0, 0}, c[3] = {0, 1e-3, 0};
   tmesh::Triangle t = make_triangle(a, b, c);
   const double beyond_edge0[3] = {0.5e-3, -0.2e-3, 0.1e-3};
@@ -184,12 +194,15 @@ TEST(TriangleContact, InactiveEdgesAndCornersAreLeftToTheirOwner) {
   EXPECT_NEAR(face.delta[2], -0.4e-3, 1e-18);
 }
 
-TEST(TriangleTree, VisitsEveryTriangleWithinReachOnce) {
+TEST(TriangleTree, VisitsEveryTriangleWithinReachOnce)
+{
   // a wavy surface of 2 x 40 x 40 triangles
   std::vector<tmesh::Triangle> tris;
   const int n = 40;
   const double h = 0.25e-3;
-  auto z = [](double x, double y) { return 0.5e-3 * std::sin(3000 * x) * std::cos(2000 * y); };
+  auto z = [](double x, double y) {
+    return 0.5e-3 * std::sin(3000 * x) * std::cos(2000 * y);
+  };
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const double p00[3] = {i * h, j * h, z(i * h, j * h)}, p10[3] = {(i + 1) * h, j * h, z((i + 1) * h, j * h)};
@@ -231,11 +244,14 @@ TEST(TriangleTree, VisitsEveryTriangleWithinReachOnce) {
   EXPECT_EQ(count, 0);
 }
 
-TEST(TriangleTree, ClearanceIsALowerBoundWithinTheBoundingSpheres) {
+TEST(TriangleTree, ClearanceIsALowerBoundWithinTheBoundingSpheres)
+{
   // a tilted, folded strip of 2 x 30 x 10 triangles; points near it and far from it
   std::vector<tmesh::Triangle> tris;
   const double h = 0.3e-3;
-  auto z = [](double x, double y) { return 0.2 * x + (y > 1.5e-3 ? 0.5 * (y - 1.5e-3) : 0.0); };
+  auto z = [](double x, double y) {
+    return 0.2 * x + (y > 1.5e-3 ? 0.5 * (y - 1.5e-3) : 0.0);
+  };
   for (int i = 0; i < 30; ++i)
     for (int j = 0; j < 10; ++j) {
       const double p00[3] = {i * h, j * h, z(i * h, j * h)}, p10[3] = {(i + 1) * h, j * h, z((i + 1) * h, j * h)};
@@ -260,7 +276,8 @@ TEST(TriangleTree, ClearanceIsALowerBoundWithinTheBoundingSpheres) {
       double c[3];
       for (int d = 0; d < 3; ++d) c[d] = (t.node[0][d] + t.node[1][d] + t.node[2][d]) / 3.0;
       sphere_bound = std::min(sphere_bound, std::sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
-                                                      (p[2] - c[2]) * (p[2] - c[2])) - t.bound_radius);
+                                                      (p[2] - c[2]) * (p[2] - c[2])) -
+                                                t.bound_radius);
     }
     const double clearance = tree.clearance(p, cap);
     EXPECT_LE(clearance, cap);
@@ -277,12 +294,14 @@ TEST(TriangleTree, ClearanceIsALowerBoundWithinTheBoundingSpheres) {
   EXPECT_GT(below_cap, 100);
 }
 
-TEST(TriangleTree, RejectsAnEmptyMesh) {
+TEST(TriangleTree, RejectsAnEmptyMesh)
+{
   tmesh::TriangleTree tree;
   EXPECT_THROW(tree.build({}), std::invalid_argument);
 }
 
-TEST(CoplanarNeighbours, FlatSquareIsOneRegionAFoldIsNot) {
+TEST(CoplanarNeighbours, FlatSquareIsOneRegionAFoldIsNot)
+{
   // two triangles of a flat square share an edge and are coplanar; a third folded by 45 degrees
   // shares a node but is not coplanar
   const double p0[3] = {0, 0, 0}, p1[3] = {1, 0, 0}, p2[3] = {1, 1, 0}, p3[3] = {0, 1, 0};
