@@ -1,7 +1,7 @@
 """Run a granulator case for several fill seeds and check every run for lost, escaped and crushed particles.
 
     .venv/bin/python cases/seed_check.py [--seeds 1 2 3 4 5] [--out runs/seed-check] [--case periodic]
-        [--max-pair-overlap 0.5] [--max-wall-overlap 0.7] [any cases/run_case.py option: --scale, --np, -v NAME VALUE, ...]
+        [--max-pair-overlap 0.5] [--max-wall-overlap 0.5] [any cases/run_case.py option: --scale, --np, -v NAME VALUE, ...]
 
 Each seed runs `cases/run_case.py CASE --seed N --out OUT/seed-N` with the other options passed
 through, then its log.lammps is read. Per seed it prints: the largest particle–particle overlap δ/R
@@ -143,8 +143,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=ROOT / "runs" / "seed-check", help="one seed-N directory per seed")
     parser.add_argument("--max-pair-overlap", type=float, default=0.5,
                         help="largest allowed particle-particle δ/R (default 0.5)")
-    parser.add_argument("--max-wall-overlap", type=float, default=0.7,
-                        help="largest allowed particle-barrel δ/r (default 0.7; > 1 means the centre is outside)")
+    parser.add_argument("--max-wall-overlap", type=float, default=0.5,
+                        help="largest allowed particle-barrel δ/r (default 0.5; > 1 means the centre is outside)")
     args, passthrough = parser.parse_known_args(argv)
     for name in ("max_pair_overlap", "max_wall_overlap"):
         value = getattr(args, name)
