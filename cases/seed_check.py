@@ -137,7 +137,8 @@ def table(results: list[SeedResult], max_pair: float, max_wall: float) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
+                                     allow_abbrev=False)
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3, 4, 5], help="fill seeds")
     parser.add_argument("--case", default="periodic", help="case of cases/run_case.py (default periodic)")
     parser.add_argument("--out", type=Path, default=ROOT / "runs" / "seed-check", help="one seed-N directory per seed")
@@ -150,8 +151,8 @@ def main(argv: list[str] | None = None) -> int:
         value = getattr(args, name)
         if not 0.0 < value:
             parser.error(f"--{name.replace('_', '-')} {value} is not allowed: a positive ratio δ/R")
-    if "--seed" in passthrough or "--out" in passthrough:
-        parser.error("--seed and --out are set per seed by seed_check.py: use --seeds and --out DIR")
+    if "--seed" in passthrough:
+        parser.error("--seed is set per seed by seed_check.py: use --seeds N [N ...]")
     results = []
     for seed in args.seeds:
         print(f"[seed-check] seed {seed} ...", flush=True)

@@ -85,6 +85,12 @@ def test_log_reading_takes_maxima_losses_and_escapes():
     assert broken.failures(0.5, 0.7) == ["run_case.py exit 1 (lmp failed)", "pair overlap nan > 0.5"]
 
 
+def test_seed_is_refused_as_pass_through():
+    proc = subprocess.run([sys.executable, str(ROOT / "cases" / "seed_check.py"), "--seeds", "1", "--seed", "3"],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2 and "--seed is set per seed by seed_check.py" in proc.stderr
+
+
 def test_two_seeds_of_the_demo_case(tmp_path):
     # 1.5 mm particles: a third of the demo's particle count and fewer sections to cut for the fill
     command = [sys.executable, str(ROOT / "cases" / "seed_check.py"), "--seeds", "3", "7", "--out", str(tmp_path),
