@@ -79,30 +79,24 @@ def thermo_rows(log: str) -> list[tuple[list[str], np.ndarray]]:
 
 
 def read_run(log: str) -> tuple[float, float, int, int, int]:
-    """Largest pair δ/R (first 'check_co' column: f_check_contact[1], the run's maximum), largest
-    barrel δ/r (column 'barrel_o...'), filled count (atoms of the first thermo row), fewest atoms,
-    most escaped, from the thermo output of log.lammps."""
-    pair, barrel, escaped = np.nan, np.nan, 0
-    filled, fewest = 0, 0
+    """From the thermo output of log.lammps: the largest pair δ/R (the first 'check_co' column,
+    f_check_contact[1]), the largest barrel δ/r ('barrel_o…', c_barrel_overlap; nan without it),
+    the filled count (atoms in the first row), the fewest atoms, the most escaped."""
+    prefixes = ("Atoms", "check_co", "barrel_o", "escaped")
+    parts: dict[str, list[np.ndarray]] = {prefix: [] for prefix in prefixes}
     for header, rows in thermo_rows(log):
-        def column(prefix: str) -> np.ndarray | None:
+        for prefix in prefixes:
             hits = [k for k, name in enumerate(header) if name.startswith(prefix)]
-            return rows[:, hits[0]] if hits else None
-        atoms = column("Atoms")
-        if atoms is not None:
-            filled = filled or int(atoms[0])
-            fewest = int(atoms.min()) if fewest == 0 else min(fewest, int(atoms.min()))
-        for prefix, update in (("check_co", "pair"), ("barrel_o", "barrel"), ("escaped", "escaped")):
-            values = column(prefix)
-            if values is None:
-                continue
-            if update == "pair":
-                pair = float(np.nanmax([pair, values.max()]))
-            elif update == "barrel":
-                barrel = float(np.nanmax([barrel, values.max()]))
-            else:
-                escaped = max(escaped, int(values.max()))
-    return pair, barrel, filled, fewest, escaped
+            if hits:
+                parts[prefix].append(rows[:, hits[0]])
+    column = {prefix: np.concatenate(p) if p else np.zeros(0) for prefix, p in parts.items()}
+
+    def largest(values: np.ndarray) -> float:
+        return float(values.max()) if values.size else float("nan")
+    atoms = column["Atoms"]
+    filled, fewest = (int(atoms[0]), int(atoms.min())) if atoms.size else (0, 0)
+    escaped = int(column["escaped"].max()) if column["escaped"].size else 0
+    return largest(column["check_co"]), largest(column["barrel_o"]), filled, fewest, escaped
 
 
 def run_seed(seed: int, out: Path, case: str, passthrough: list[str]) -> SeedResult:
