@@ -5,8 +5,8 @@
 
 Each seed runs `cases/run_case.py CASE --seed N --out OUT/seed-N` with the other options passed
 through, then its log.lammps is read. Per seed it prints: the largest particle–particle overlap δ/R
-(fix check/contact's monitor, R the smaller radius), the largest particle–barrel overlap δ/r
-(c_barrel_overlap from cases/include/barrel_overlap.in; "n/a" where the input does not print it),
+(fix check/contact's monitor v_pp_max, R the smaller radius), the largest particle–wall overlap δ/r
+against the screws and the barrel (the monitors v_pg_scr1, v_pg_scr2, v_pg_bar of timestep.in),
 the particles lost (fewer atoms than filled, or LIGGGHTS' "Lost atoms") and escaped (v_escaped),
 and the wall time. Both monitors are sampled at thermo output (every `thermo_every` steps).
 A seed fails when run_case.py fails, a particle is lost or escaped, or an overlap exceeds its
@@ -31,7 +31,7 @@ class SeedResult:
     seed: int
     exit_status: int
     pair_overlap: float        # largest particle–particle δ/R; nan when no thermo output
-    barrel_overlap: float      # largest particle–barrel δ/r; nan when the input has no monitor
+    wall_overlap: float      # largest particle–wall δ/r; nan when the input has no monitor
     filled: int
     lost: int
     escaped: int
@@ -48,14 +48,14 @@ class SeedResult:
             reasons.append(f"{self.escaped} escaped")
         if not self.pair_overlap <= max_pair:
             reasons.append(f"pair overlap {self.pair_overlap:.3g} > {max_pair}")
-        if self.barrel_overlap > max_wall:
-            reasons.append(f"barrel overlap {self.barrel_overlap:.3g} > {max_wall}")
+        if self.wall_overlap > max_wall:
+            reasons.append(f"wall overlap {self.wall_overlap:.3g} > {max_wall}")
         return reasons
 
 
 def thermo_rows(log: str) -> list[tuple[list[str], np.ndarray]]:
     """Thermo blocks as (header words, rows). Columns are taken by position: LIGGGHTS shortens
-    headers (every f_check_contact[k] prints as 'check_co'), so names can repeat."""
+    headers to 8 characters, so names can repeat."""
     blocks: list[tuple[list[str], np.ndarray]] = []
     header: list[str] | None = None
     rows: list[list[float]] = []
@@ -79,16 +79,16 @@ def thermo_rows(log: str) -> list[tuple[list[str], np.ndarray]]:
 
 
 def read_run(log: str) -> tuple[float, float, int, int, int]:
-    """From the thermo output of log.lammps: the largest pair δ/R (the first 'check_co' column,
-    f_check_contact[1]), the largest barrel δ/r ('barrel_o…', c_barrel_overlap; nan without it),
+    """From the thermo output of log.lammps: the largest pair δ/R ('pp_max'), the largest wall δ/r
+    over the screws and the barrel ('pg_scr1', 'pg_scr2', 'pg_bar'; nan without them),
     the filled count (atoms in the first row), the fewest atoms, the most escaped."""
-    prefixes = ("Atoms", "check_co", "barrel_o", "escaped")
+    prefixes = ("Atoms", "pp_max", "pg_", "escaped")
     parts: dict[str, list[np.ndarray]] = {prefix: [] for prefix in prefixes}
     for header, rows in thermo_rows(log):
         for prefix in prefixes:
             hits = [k for k, name in enumerate(header) if name.startswith(prefix)]
             if hits:
-                parts[prefix].append(rows[:, hits[0]])
+                parts[prefix].append(rows[:, hits].max(axis=1))
     column = {prefix: np.concatenate(p) if p else np.zeros(0) for prefix, p in parts.items()}
 
     def largest(values: np.ndarray) -> float:
@@ -96,7 +96,7 @@ def read_run(log: str) -> tuple[float, float, int, int, int]:
     atoms = column["Atoms"]
     filled, fewest = (int(atoms[0]), int(atoms.min())) if atoms.size else (0, 0)
     escaped = int(column["escaped"].max()) if column["escaped"].size else 0
-    return largest(column["check_co"]), largest(column["barrel_o"]), filled, fewest, escaped
+    return largest(column["pp_max"]), largest(column["pg_"]), filled, fewest, escaped
 
 
 def run_seed(seed: int, out: Path, case: str, passthrough: list[str]) -> SeedResult:
@@ -121,11 +121,11 @@ def run_seed(seed: int, out: Path, case: str, passthrough: list[str]) -> SeedRes
 def table(results: list[SeedResult], max_pair: float, max_wall: float) -> str:
     def number(value: float) -> str:
         return "n/a" if np.isnan(value) else f"{value:.3f}"
-    lines = [f"{'seed':>6} {'particles':>9} {'pair δ/R':>9} {'barrel δ/r':>10} {'lost':>5} {'escaped':>7} "
+    lines = [f"{'seed':>6} {'particles':>9} {'pair δ/R':>9} {'wall δ/r':>10} {'lost':>5} {'escaped':>7} "
              f"{'wall s':>7}  verdict"]
     for r in results:
         reasons = r.failures(max_pair, max_wall)
-        lines.append(f"{r.seed:>6} {r.filled:>9} {number(r.pair_overlap):>9} {number(r.barrel_overlap):>10} "
+        lines.append(f"{r.seed:>6} {r.filled:>9} {number(r.pair_overlap):>9} {number(r.wall_overlap):>10} "
                      f"{r.lost:>5} {r.escaped:>7} {r.wall_time:>7.0f}  {'FAIL: ' + '; '.join(reasons) if reasons else 'ok'}")
     return "\n".join(lines)
 
@@ -139,7 +139,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--max-pair-overlap", type=float, default=0.5,
                         help="largest allowed particle-particle δ/R (default 0.5)")
     parser.add_argument("--max-wall-overlap", type=float, default=0.5,
-                        help="largest allowed particle-barrel δ/r (default 0.5; > 1 means the centre is outside)")
+                        help="largest allowed particle-wall δ/r (default 0.5; > 1 means the centre is outside)")
     args, passthrough = parser.parse_known_args(argv)
     for name in ("max_pair_overlap", "max_wall_overlap"):
         value = getattr(args, name)
