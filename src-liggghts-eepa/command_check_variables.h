@@ -1,0 +1,88 @@
+// `check_variables` — stop the run if a variable given on the command line (`lmp -var NAME VALUE`)
+// was neither declared nor used by any input line read so far. Upstream ignores such a variable,
+// so a misspelt name (`-var rmp 300`) ran with the input's default silently. Place it after the
+// includes that declare the variables and before the first run; the error lists the declared
+// names closest to each unclaimed one.
+#ifdef COMMAND_CLASS
+CommandStyle(check_variables,CheckVariablesCommand)
+#else
+#ifndef TSG_COMMAND_CHECK_VARIABLES_H
+#define TSG_COMMAND_CHECK_VARIABLES_H
+
+#include <algorithm>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "error.h"
+#include "input.h"
+#include "pointers.h"
+#include "variable.h"
+
+namespace tsg {
+
+// Levenshtein distance: the fewest single-character insertions, deletions and substitutions
+// that turn a into b; a transposition ("rmp" for "rpm") counts 2.
+inline std::size_t edit_distance(const std::string &a, const std::string &b)
+{
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The candidates within edit distance max(2, |name|/3) of name, closest first (at most 5).
+inline std::vector<std::string> close_names(const std::string &name, const std::vector<std::string> &candidates)
+{
+  const std::size_t limit = std::max<std::size_t>(2, name.size() / 3);
+  std::vector<std::pair<std::size_t, std::string>> ranked;
+  for (const std::string &c : candidates) {
+    const std::size_t d = edit_distance(name, c);
+    if (d <= limit) ranked.emplace_back(d, c);
+  }
+  std::sort(ranked.begin(), ranked.end());
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < ranked.size() && i < 5; ++i) out.push_back(ranked[i].second);
+  return out;
+}
+
+}  // namespace tsg
+
+namespace LAMMPS_NS {
+
+class CheckVariablesCommand : protected Pointers {
+public:
+  explicit CheckVariablesCommand(class LAMMPS *lmp) : Pointers(lmp) {}
+  void command(int narg, char ** /*arg*/)
+  {
+    if (narg != 0) error->all(FLERR, "check_variables takes no arguments");
+    const std::set<std::string> &unclaimed = input->variable->unclaimed_command_line;
+    if (unclaimed.empty()) return;
+    std::vector<std::string> declared;
+    for (const std::string &n : input->variable->defined_names())
+      if (!unclaimed.count(n)) declared.push_back(n);
+    std::string message = "check_variables: the input declares no variable named";
+    for (const std::string &name : unclaimed) {
+      message += " '" + name + "' (given with -var; ";
+      const std::vector<std::string> close = tsg::close_names(name, declared);
+      if (close.empty()) message += "no declared name is close";
+      for (std::size_t i = 0; i < close.size(); ++i) message += (i ? ", " : "did you mean ") + close[i];
+      message += ")";
+    }
+    error->all(FLERR, message.c_str());
+  }
+};
+
+}  // namespace LAMMPS_NS
+
+#endif
+#endif
