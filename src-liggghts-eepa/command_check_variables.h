@@ -22,22 +22,21 @@ CommandStyle(check_variables,CheckVariablesCommand)
 
 namespace tsg {
 
-// Levenshtein distance: the fewest single-character insertions, deletions and substitutions
-// that turn a into b; a transposition ("rmp" for "rpm") counts 2.
+// Optimal string alignment distance (Damerau-Levenshtein without repeated edits of a substring):
+// the fewest insertions, deletions, substitutions and swaps of two adjacent characters that turn a
+// into b, so the typical typo "rmp" for "rpm" is 1.
 inline std::size_t edit_distance(const std::string &a, const std::string &b)
 {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
-  }
-  return row[b.size()];
+  return d[a.size()][b.size()];
 }
 
 // The candidates within edit distance max(2, |name|/3) of name, closest first (at most 5).
@@ -70,9 +69,9 @@ public:
     std::vector<std::string> declared;
     for (const std::string &n : input->variable->defined_names())
       if (!unclaimed.count(n)) declared.push_back(n);
-    std::string message = "check_variables: the input declares no variable named";
+    std::string message = "check_variables:";
     for (const std::string &name : unclaimed) {
-      message += " '" + name + "' (given with -var; ";
+      message += (message.back() == ':' ? " -var " : "; -var ") + name + " names no variable of the input (";
       const std::vector<std::string> close = tsg::close_names(name, declared);
       if (close.empty()) message += "no declared name is close";
       for (std::size_t i = 0; i < close.size(); ++i) message += (i ? ", " : "did you mean ") + close[i];
