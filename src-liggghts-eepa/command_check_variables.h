@@ -39,13 +39,15 @@ inline std::size_t edit_distance(const std::string &a, const std::string &b)
   return d[a.size()][b.size()];
 }
 
-// The candidates within edit distance max(2, |name|/3) of name, closest first (at most 5).
+// The candidates within edit distance max(2, |name|/3) of name, or of which name is a part cut
+// short ("rho" for "rho_p", "feed_rate" for "feed_rate_kg_h", ranked as one edit), closest first
+// (at most 5).
 inline std::vector<std::string> close_names(const std::string &name, const std::vector<std::string> &candidates)
 {
   const std::size_t limit = std::max<std::size_t>(2, name.size() / 3);
   std::vector<std::pair<std::size_t, std::string>> ranked;
   for (const std::string &c : candidates) {
-    const std::size_t d = edit_distance(name, c);
+    const std::size_t d = c.compare(0, name.size(), name) == 0 ? 1 : edit_distance(name, c);
     if (d <= limit) ranked.emplace_back(d, c);
   }
   std::sort(ranked.begin(), ranked.end());
