@@ -16,9 +16,9 @@ import sys
 import tempfile
 from pathlib import Path
 
+from tsg_cases.launcher import run_lmp
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "analysis")]
-from tsg_harness import run_lmp  # noqa: E402
 
 TEMPLATE = """
 atom_style granular

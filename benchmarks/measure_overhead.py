@@ -29,13 +29,12 @@ import resource
 import shutil
 import subprocess
 import statistics
-import sys
 import tempfile
 from pathlib import Path
 
+from tsg_cases.launcher import run_lmp
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "analysis")]
-from tsg_harness import run_lmp  # noqa: E402
 
 LENGTH = 0.095833
 KNEADING = 0.00625

@@ -92,6 +92,44 @@ def clear_of_walls(sections: Sections, centres: np.ndarray, radii: np.ndarray, l
     return ok
 
 
+class ExactWalls:
+    """Exact distance from points to the three meshes (VTK's implicit poly-data distance): the axial
+    sections test a sphere only in the slices it spans, and a wall that lies between two slices,
+    such as a kneading-disc face, can come closer than the sections show."""
+
+    def __init__(self, mesh_dir: Path, length: float | None):
+        import pyvista as pv
+        from vtkmodules.vtkFiltersCore import vtkImplicitPolyDataDistance
+        self.functions = []
+        for name in MESHES:   # one point locator per mesh, built once
+            function = vtkImplicitPolyDataDistance()
+            function.SetInput(pv.read(mesh_dir / name))
+            self.functions.append(function)
+        self.length = length
+
+    def distance(self, function, points: np.ndarray) -> np.ndarray:
+        from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+        from vtkmodules.vtkCommonCore import vtkDoubleArray
+        values = vtkDoubleArray()
+        function.FunctionValue(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=True), values)
+        return np.abs(vtk_to_numpy(values))
+
+    def clear(self, centres: np.ndarray, radii: np.ndarray, margin: float) -> np.ndarray:
+        """Which spheres keep `margin` from every mesh (and from its periodic images along x)."""
+        ok = np.ones(len(centres), dtype=bool)
+        reach = radii + margin
+        for function in self.functions:
+            ok &= self.distance(function, centres) >= reach
+            if self.length is None:
+                continue
+            for shift in (-self.length, self.length):   # spheres that reach across a periodic end
+                images = centres + np.array([shift, 0.0, 0.0])
+                near = np.flatnonzero(np.abs(images[:, 0] - np.clip(images[:, 0], 0.0, self.length)) < reach)
+                if near.size:
+                    ok[near] &= self.distance(function, images[near]) >= reach[near]
+        return ok
+
+
 def bore_box(sections: Sections) -> tuple[np.ndarray, np.ndarray]:
     points = np.concatenate([b.reshape(-1, 2) for b in sections.barrel])
     return points.min(axis=0), points.max(axis=0)
@@ -118,6 +156,7 @@ def fill(mesh_dir: Path, mass: float, d_mean: float, sigma: float, density: floa
     sections = Sections.cut(mesh_dir, slices)
     lo, hi = bore_box(sections)
     length = (x1 - x0) if periodic else None
+    exact = ExactWalls(mesh_dir, length)
     placed_centres: list[np.ndarray] = []
     placed_d: list[float] = []
     # cell list for the overlap test; on a periodic axis the x cells wrap
@@ -157,6 +196,7 @@ def fill(mesh_dir: Path, mass: float, d_mean: float, sigma: float, density: floa
                                       rng.uniform(lo[0], hi[0], batch), rng.uniform(lo[1], hi[1], batch)])
         good = candidates[clear_of_walls(sections, candidates, np.full(batch, d / 2), length,
                                          margin_fraction * d)]
+        good = good[exact.clear(good, np.full(len(good), d / 2), margin_fraction * d)]
         for centre in good:
             if not remaining:
                 break

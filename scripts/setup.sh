@@ -20,7 +20,7 @@ current_step="system packages"
 step "$current_step"
 # compilers and build tools; MPI; VTK 9 (MPI-enabled); tests; X/GL libraries that gmsh's wheel and
 # off-screen pyvista load even without a display
-packages=(build-essential cmake patch curl ca-certificates xz-utils ccache
+packages=(build-essential cmake patch curl ca-certificates xz-utils ccache clang-format
           libopenmpi-dev openmpi-bin libvtk9-dev libgtest-dev libbenchmark-dev
           python3 python3-venv
           libglu1-mesa libgl1 libegl1 libosmesa6 libxrender1 libxcursor1 libxft2 libxinerama1 libxi6

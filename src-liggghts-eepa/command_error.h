@@ -2,7 +2,9 @@
 // Input scripts use it to reject a bad variable value with a clear text, as cases/include/models.in:
 //   else "error cohesion = ${cohesion} is not allowed: use 0 (cohesionless, Hertz) or 1 (high cohesion, EEPA)"
 #ifdef COMMAND_CLASS
+// clang-format off
 CommandStyle(error,ErrorCommand)
+// clang-format on
 #else
 #ifndef TSG_COMMAND_ERROR_H
 #define TSG_COMMAND_ERROR_H

@@ -22,8 +22,7 @@ namespace {
 enum Column { kVolume, kMass, kMassSpeed, kMassAxial, kCount, kColumns };
 }
 
-ComputeElementStats::ComputeElementStats(LAMMPS *lmp, int &iarg, int narg, char **arg)
-  : Compute(lmp, iarg, narg, arg)
+ComputeElementStats::ComputeElementStats(LAMMPS *lmp, int &iarg, int narg, char **arg) : Compute(lmp, iarg, narg, arg)
 {
   const std::string who = std::string("compute ") + id + " element/stats";
   if (narg - iarg != 2 || std::string(arg[iarg]) != "zones")

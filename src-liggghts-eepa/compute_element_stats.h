@@ -19,7 +19,9 @@
 // <column 6>/<column 5> and <column 7>/<column 5> (the plain average of columns 2 and 3 counts the
 // samples in which a zone was empty as 0).
 #ifdef COMPUTE_CLASS
+// clang-format off
 ComputeStyle(element/stats,ComputeElementStats)
+// clang-format on
 #else
 #ifndef TSG_COMPUTE_ELEMENT_STATS_H
 #define TSG_COMPUTE_ELEMENT_STATS_H
@@ -28,6 +30,7 @@ ComputeStyle(element/stats,ComputeElementStats)
 #include <vector>
 
 #include "compute.h"
+
 #include "zones.h"
 
 namespace LAMMPS_NS {

@@ -63,9 +63,8 @@ public:
   {
     const double n = slope_exponent_[itype][jtype];
     const double radius_factor = n == 1.5 ? std::sqrt(reff) : std::pow(reff, 2.0 - n);
-    return {4.0 / 3.0 * yeff * radius_factor, plasticity_ratio_[itype][jtype], n,
-            tension_exponent_[itype][jtype], pull_off_force_[itype][jtype],
-            surface_energy_[itype][jtype], reff};
+    return {4.0 / 3.0 * yeff * radius_factor, plasticity_ratio_[itype][jtype], n,   tension_exponent_[itype][jtype],
+            pull_off_force_[itype][jtype],    surface_energy_[itype][jtype],   reff};
   }
 
   // λp^(1/n) of the type pair, computed once at set-up (tsg::eepa::plastic_root)
@@ -77,7 +76,7 @@ public:
   double slope_exponent_for_heat() const { return slope_exponent_ ? slope_exponent_[1][1] : 1.5; }
 
 private:
-  template<const char *Name>
+  template <const char *Name>
   static ::MatrixProperty *create(::PropertyRegistry &registry, const char *caller, bool)
   {
     return MODEL_PARAMS::createPerTypePairProperty(registry, Name, caller);
@@ -104,8 +103,8 @@ private:
           }
         }
         if (!problem.empty()) {
-          const std::string message = "model eepa, atom types " + std::to_string(i) + " " +
-                                      std::to_string(j) + ": " + problem;
+          const std::string message =
+              "model eepa, atom types " + std::to_string(i) + " " + std::to_string(j) + ": " + problem;
           lmp->error->all(FLERR, message.c_str());
         }
       }
@@ -113,10 +112,9 @@ private:
 
   static std::string rename(std::string message)
   {
-    const char *law_names[] = {"plasticity_ratio", "pull_off_force", "surface_energy",
-                               "slope_exponent", "tension_exponent"};
-    const char *property_names[] = {kPlasticityRatio, kPullOffForce, kSurfaceEnergy,
-                                    kSlopeExponent, kTensionExponent};
+    const char *law_names[] = {"plasticity_ratio", "pull_off_force", "surface_energy", "slope_exponent",
+                               "tension_exponent"};
+    const char *property_names[] = {kPlasticityRatio, kPullOffForce, kSurfaceEnergy, kSlopeExponent, kTensionExponent};
     for (int k = 0; k < 5; ++k)
       if (message.compare(0, std::string(law_names[k]).size() + 1, std::string(law_names[k]) + " ") == 0)
         return std::string(property_names[k]) + message.substr(std::string(law_names[k]).size());

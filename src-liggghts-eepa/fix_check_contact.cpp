@@ -14,7 +14,6 @@
 #include "fix_neighlist_mesh.h"
 #include "fix_property_global.h"
 #include "fix_wall_gran.h"
-#include "fix_wall_gran_corotating.h"
 #include "force.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -23,6 +22,7 @@
 #include "update.h"
 
 #include "contact_timestep.h"
+#include "fix_wall_gran_corotating.h"
 
 using namespace LAMMPS_NS;
 
@@ -45,19 +45,20 @@ struct ValueRank {  // layout of MPI_DOUBLE_INT
 }  // namespace
 
 FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
-  : Fix(lmp, narg, arg), check_every_(1000), step_fraction_(0.2), error_on_violation_(true), warned_(false),
-    max_speed_(0), max_pair_overlap_(0), max_wall_overlap_(0), walls_(nullptr), corotating_walls_(nullptr),
-    max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), max_speed_squared_window_(0), max_speed_now_(0),
-    estimate_(0), youngs_modulus_(nullptr), poisson_ratio_(nullptr), plasticity_ratio_(nullptr)
+    : Fix(lmp, narg, arg), check_every_(1000), step_fraction_(0.2), error_on_violation_(true), warned_(false),
+      max_speed_(0), max_pair_overlap_(0), max_wall_overlap_(0), walls_(nullptr), corotating_walls_(nullptr),
+      max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), max_speed_squared_window_(0), max_speed_now_(0),
+      estimate_(0), youngs_modulus_(nullptr), poisson_ratio_(nullptr), plasticity_ratio_(nullptr)
 {
   // every keyword is validated here, each with one message naming it, its value and what is allowed
-  auto fail = [&](const std::string &message) { error->fix_error(FLERR, this, message.c_str()); };
+  auto fail = [&](const std::string &message) {
+    error->fix_error(FLERR, this, message.c_str());
+  };
   auto positive_number = [&](const std::string &key, const char *value, const char *allowed) {
     char *end = nullptr;
     const double number = strtod(value, &end);
     if (end == value || *end != '\0') fail(key + " = " + value + " is not a number");
-    if (!(number > 0 && std::isfinite(number)))
-      fail(key + " = " + value + " is outside the allowed range " + allowed);
+    if (!(number > 0 && std::isfinite(number))) fail(key + " = " + value + " is outside the allowed range " + allowed);
     return number;
   };
   for (int iarg = 3; iarg < narg; iarg += 2) {
@@ -74,9 +75,12 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
       step_fraction_ = positive_number(key, value, "(0, 1]");
       if (step_fraction_ > 1) fail(std::string("step_fraction = ") + value + " is outside the allowed range (0, 1]");
     } else if (key == "action") {
-      if (strcmp(value, "warn") == 0) error_on_violation_ = false;
-      else if (strcmp(value, "error") == 0) error_on_violation_ = true;
-      else fail(std::string("action = ") + value + " must be 'error' or 'warn'");
+      if (strcmp(value, "warn") == 0)
+        error_on_violation_ = false;
+      else if (strcmp(value, "error") == 0)
+        error_on_violation_ = true;
+      else
+        fail(std::string("action = ") + value + " must be 'error' or 'warn'");
     } else if (key == "max_speed") {
       max_speed_ = positive_number(key, value, "(0, inf) m/s");
     } else if (key == "max_pair_overlap") {
@@ -103,7 +107,7 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
   nevery = 1;  // the motion guard runs every step; the rest every check_every_ steps
   vector_flag = 1;
   size_vector = kFixedOutputs + static_cast<int>(mesh_ids_.size());
-  global_freq = check_every_;
+  global_freq = 1;  // outputs hold the last check's values at any step (thermo at the end of a run)
   extvector = 0;
 }
 
@@ -111,8 +115,7 @@ int FixCheckContact::setmask() { return FixConst::END_OF_STEP; }
 
 void FixCheckContact::init()
 {
-  if (!force->pair_match("gran", 0))
-    error->fix_error(FLERR, this, "needs a granular pair style (pair_style gran ...)");
+  if (!force->pair_match("gran", 0)) error->fix_error(FLERR, this, "needs a granular pair style (pair_style gran ...)");
   const int ntypes = atom->ntypes;
   youngs_modulus_ = static_cast<FixPropertyGlobal *>(
       modify->find_fix_property("youngsModulus", "property/global", "peratomtype", ntypes, 0, style));
@@ -228,10 +231,9 @@ void FixCheckContact::check_motion()
   int bad = -1;
   if (!std::isfinite(sum))  // a non-finite value, or finite values too large to add: look
     for (int i = 0; i < nlocal && bad < 0; ++i)
-      if ((mask[i] & groupbit) &&
-          !(std::isfinite(x[i][0]) && std::isfinite(x[i][1]) && std::isfinite(x[i][2]) && std::isfinite(v[i][0]) &&
-            std::isfinite(v[i][1]) && std::isfinite(v[i][2]) && std::isfinite(f[i][0]) && std::isfinite(f[i][1]) &&
-            std::isfinite(f[i][2])))
+      if ((mask[i] & groupbit) && !(std::isfinite(x[i][0]) && std::isfinite(x[i][1]) && std::isfinite(x[i][2]) &&
+                                    std::isfinite(v[i][0]) && std::isfinite(v[i][1]) && std::isfinite(v[i][2]) &&
+                                    std::isfinite(f[i][0]) && std::isfinite(f[i][1]) && std::isfinite(f[i][2])))
         bad = i;
   if (std::isfinite(largest)) max_speed_squared_window_ = largest;
   const bool too_fast = bad < 0 && max_speed_ > 0 && largest > max_speed_ * max_speed_;
@@ -246,7 +248,9 @@ void FixCheckContact::check_motion()
   if (comm->me == worst[1]) {
     const std::string who = "step " + std::to_string(static_cast<long long>(update->ntimestep)) + ": particle " +
                             std::to_string(static_cast<long long>(atom->tag[bad]));
-    auto triple = [](const double *a) { return "(" + number(a[0]) + ", " + number(a[1]) + ", " + number(a[2]) + ")"; };
+    auto triple = [](const double *a) {
+      return "(" + number(a[0]) + ", " + number(a[1]) + ", " + number(a[2]) + ")";
+    };
     if (worst[0] == 2)
       message = "check/contact: " + who + " has a non-finite position, velocity or force: x " + triple(x[bad]) +
                 " m, v " + triple(v[bad]) + " m/s, f " + triple(f[bad]) + " N; " + contacts_of(bad);
@@ -255,7 +259,8 @@ void FixCheckContact::check_motion()
                 number(std::sqrt(v[bad][0] * v[bad][0] + v[bad][1] * v[bad][1] + v[bad][2] * v[bad][2])) +
                 " m/s, above max_speed = " + number(max_speed_) +
                 " m/s (kinetic energy blow-up: time step too large for the contact stiffness, or a particle "
-                "crushed between walls); " + contacts_of(bad);
+                "crushed between walls); " +
+                contacts_of(bad);
   }
   stop_at(worst[1], message);
 }
@@ -319,8 +324,8 @@ std::string FixCheckContact::contacts_of(int i) const
 {
   const Deepest pair = deepest_pair_contact(i);
   std::string text = pair.partner_id ? "deepest particle contact: particle " +
-                                           std::to_string(static_cast<long long>(pair.partner_id)) + " at overlap/radius " +
-                                           number(pair.overlap_ratio)
+                                           std::to_string(static_cast<long long>(pair.partner_id)) +
+                                           " at overlap/radius " + number(pair.overlap_ratio)
                                      : std::string("no particle contact");
   if (!walls_) return text;
   std::vector<std::string> touched;
@@ -381,8 +386,9 @@ void FixCheckContact::check_wall_overlap()
     if (comm->me == global[k].rank)
       message = "check/contact: step " + std::to_string(static_cast<long long>(update->ntimestep)) + ": particle " +
                 std::to_string(static_cast<long long>(mine[k].atom_id)) + " overlaps mesh " + mesh_ids_[k] + " by " +
-                number(mine[k].overlap_ratio) + " of its radius, above max_wall_overlap = " +
-                number(max_wall_overlap_) + " (a particle pushed into the wall: crushed in a clearance, or too fast)";
+                number(mine[k].overlap_ratio) +
+                " of its radius, above max_wall_overlap = " + number(max_wall_overlap_) +
+                " (a particle pushed into the wall: crushed in a clearance, or too fast)";
     stop_at(global[k].rank, message);
   }
 }
@@ -400,11 +406,17 @@ void FixCheckContact::stop_at(int rank, const std::string &message)
 double FixCheckContact::compute_vector(int n)
 {
   switch (n) {
-    case 0: return max_overlap_ratio_run_;
-    case 1: return max_overlap_ratio_now_;
-    case 2: return estimate_;
-    case 3: return estimate_ > 0 ? update->dt / estimate_ : 0;
-    case 4: return max_speed_now_;
-    default: return wall_overlap_now_[n - kFixedOutputs];
+    case 0:
+      return max_overlap_ratio_run_;
+    case 1:
+      return max_overlap_ratio_now_;
+    case 2:
+      return estimate_;
+    case 3:
+      return estimate_ > 0 ? update->dt / estimate_ : 0;
+    case 4:
+      return max_speed_now_;
+    default:
+      return wall_overlap_now_[n - kFixedOutputs];
   }
 }

@@ -24,7 +24,9 @@
 //   f_ID[5] largest particle speed since the previous check (m/s)
 //   f_ID[5+k] largest δ/R against the k-th mesh of the walls fix since the previous check
 #ifdef FIX_CLASS
+// clang-format off
 FixStyle(check/contact,FixCheckContact)
+// clang-format on
 #else
 #ifndef TSG_FIX_CHECK_CONTACT_H
 #define TSG_FIX_CHECK_CONTACT_H
@@ -39,11 +41,11 @@ namespace LAMMPS_NS {
 class FixCheckContact : public Fix {
 public:
   FixCheckContact(class LAMMPS *, int, char **);
-  int setmask();
-  void init();
-  void setup(int);
-  void end_of_step();
-  double compute_vector(int);
+  int setmask() override;
+  void init() override;
+  void setup(int) override;
+  void end_of_step() override;
+  double compute_vector(int) override;
 
 private:
   struct Deepest {  // a largest overlap and who has it
@@ -67,10 +69,10 @@ private:
   double step_fraction_;  // largest allowed dt / estimate
   bool error_on_violation_;
   bool warned_;
-  double max_speed_;             // m/s; 0: off
-  double max_pair_overlap_;      // δ/R; 0: off
-  double max_wall_overlap_;      // δ/R; 0: off
-  std::string wall_fix_id_;      // empty: no wall monitor
+  double max_speed_;         // m/s; 0: off
+  double max_pair_overlap_;  // δ/R; 0: off
+  double max_wall_overlap_;  // δ/R; 0: off
+  std::string wall_fix_id_;  // empty: no wall monitor
   class FixWallGran *walls_;
   class FixWallGranCorotating *corotating_walls_;
   std::vector<std::string> mesh_ids_;

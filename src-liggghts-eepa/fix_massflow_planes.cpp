@@ -26,8 +26,8 @@ using tsg::measure::fail;
 using tsg::measure::number;
 
 FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg)
-  : Fix(lmp, narg, arg), window_(0), append_(tsg::measure::Append::automatic), continuing_(false), file_opened_(false),
-    fp_(nullptr), bounds_(nullptr), side_(nullptr), nside_(0), window_time_(0)
+    : Fix(lmp, narg, arg), window_(0), append_(tsg::measure::Append::automatic), continuing_(false),
+      file_opened_(false), fp_(nullptr), bounds_(nullptr), side_(nullptr), nside_(0), window_time_(0)
 {
   const std::string who = std::string("fix ") + id + " massflow/planes";
   bool have_planes = false;
@@ -36,16 +36,18 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg)
     if (key == "planes") {
       long k = 0;
       if (iarg + 1 >= narg || !tsg::measure::parse_integer(arg[iarg + 1], 1, 1000, k))
-        fail(lmp, who, std::string("'planes K X1 ... XK' needs a sensor count K between 1 and 1000, got '") +
-                           (iarg + 1 < narg ? arg[iarg + 1] : "") + "'");
+        fail(lmp, who,
+             std::string("'planes K X1 ... XK' needs a sensor count K between 1 and 1000, got '") +
+                 (iarg + 1 < narg ? arg[iarg + 1] : "") + "'");
       if (iarg + 1 + k >= narg)
         fail(lmp, who, std::string("'planes ") + arg[iarg + 1] + "' needs " + std::to_string(k) + " positions");
       for (long j = 0; j < k; ++j) {
         const char *text = arg[iarg + 2 + j];
         double x = 0;
         if (!tsg::measure::parse_real(text, x))
-          fail(lmp, who, "plane " + std::to_string(j + 1) + " position '" + text + "' is not a finite number (m); 'planes " +
-                             std::to_string(k) + "' needs " + std::to_string(k) + " positions");
+          fail(lmp, who,
+               "plane " + std::to_string(j + 1) + " position '" + text + "' is not a finite number (m); 'planes " +
+                   std::to_string(k) + "' needs " + std::to_string(k) + " positions");
         planes_.push_back(x);
       }
       have_planes = true;
@@ -53,8 +55,9 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg)
     } else if (key == "window") {
       long n = 0;
       if (iarg + 1 >= narg || !tsg::measure::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
-        fail(lmp, who, std::string("window = '") + (iarg + 1 < narg ? arg[iarg + 1] : "") +
-                           "' must be a positive number of steps");
+        fail(lmp, who,
+             std::string("window = '") + (iarg + 1 < narg ? arg[iarg + 1] : "") +
+                 "' must be a positive number of steps");
       window_ = static_cast<int>(n);
       iarg += 2;
     } else if (key == "file") {
@@ -129,7 +132,8 @@ void FixMassflowPlanes::init()
   if (!atom->rmass_flag) fail(lmp, who, "needs per-particle mass (atom_style granular or sphere)");
   if (tsg::measure::fixed_box_x(domain))
     for (size_t k = 0; k < planes_.size(); ++k)
-      tsg::measure::check_plane_in_box(lmp, who, "plane " + std::to_string(k + 1) + " at", planes_[k], domain->xperiodic);
+      tsg::measure::check_plane_in_box(lmp, who, "plane " + std::to_string(k + 1) + " at", planes_[k],
+                                       domain->xperiodic);
   near_.configure(neighbor, atom);
   if (!file_opened_) open_file();
 }
@@ -247,7 +251,7 @@ void FixMassflowPlanes::copy_arrays(int i, int j, int)
 
 void FixMassflowPlanes::set_arrays(int i)
 {
-  bounds_[i][0] = bounds_[i][1] = 0.0;  // empty interval: the next step looks at it
+  bounds_[i][0] = bounds_[i][1] = 0.0;          // empty interval: the next step looks at it
   std::fill(side_[i], side_[i] + nside_, 0.0);  // not seen yet
 }
 
@@ -282,9 +286,10 @@ void FixMassflowPlanes::unpack_restart(int nlocal, int nth)
   int m = 0;
   for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
   if (static_cast<int>(extra[nlocal][m]) != 3 + nside_)
-    tsg::measure::fail_one(lmp, std::string("fix ") + id + " massflow/planes", std::string("the restart file holds ") +
-                       std::to_string(static_cast<int>(extra[nlocal][m]) - 3) + " sides per particle, this fix needs " +
-                       std::to_string(nside_) + " (a different number of planes?)");
+    tsg::measure::fail_one(
+        lmp, std::string("fix ") + id + " massflow/planes",
+        std::string("the restart file holds ") + std::to_string(static_cast<int>(extra[nlocal][m]) - 3) +
+            " sides per particle, this fix needs " + std::to_string(nside_) + " (a different number of planes?)");
   bounds_[nlocal][0] = extra[nlocal][m + 1];
   bounds_[nlocal][1] = extra[nlocal][m + 2];
   std::copy(&extra[nlocal][m + 3], &extra[nlocal][m + 3] + nside_, side_[nlocal]);
@@ -332,8 +337,9 @@ void FixMassflowPlanes::restart(char *buf)
   const std::string who = std::string("fix ") + id + " massflow/planes";
   const double *list = reinterpret_cast<const double *>(buf);
   if (list[0] != kRestartMark)
-    fail(lmp, who, "the restart file was written by an earlier version of this fix, which did not keep its "
-                   "sensor positions; continue from a restart file written by this version");
+    fail(lmp, who,
+         "the restart file was written by an earlier version of this fix, which did not keep its "
+         "sensor positions; continue from a restart file written by this version");
   const size_t n = static_cast<size_t>(list[1]);
   const double *positions = list + 3;
   std::string stored;
@@ -341,10 +347,11 @@ void FixMassflowPlanes::restart(char *buf)
   std::string now_planes;
   for (size_t k = 0; k < planes_.size(); ++k) now_planes += (k ? " " : "") + number(planes_[k]);
   if (n != planes_.size() || !std::equal(planes_.begin(), planes_.end(), positions))
-    fail(lmp, who, "the restart file was written with planes " + std::to_string(n) + " " + stored + ", this fix has planes " +
-                       std::to_string(planes_.size()) + " " + now_planes +
-                       "; a mass-flow record cannot mix two sets of sensors: use the planes of the earlier run, or "
-                       "start a new record (a new fix ID and file)");
+    fail(lmp, who,
+         "the restart file was written with planes " + std::to_string(n) + " " + stored + ", this fix has planes " +
+             std::to_string(planes_.size()) + " " + now_planes +
+             "; a mass-flow record cannot mix two sets of sensors: use the planes of the earlier run, or "
+             "start a new record (a new fix ID and file)");
   window_time_ = list[2];
   const double *rest = positions + n;
   for (size_t k = 0; k < n; ++k) rate_[k] = rest[k];

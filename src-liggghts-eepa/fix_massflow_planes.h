@@ -12,7 +12,9 @@
 // Particles inserted during a step start counting at the next step; moves between runs (set,
 // displace_atoms) are not counted. Restart-safe (per-particle positions, the open window).
 #ifdef FIX_CLASS
+// clang-format off
 FixStyle(massflow/planes,FixMassflowPlanes)
+// clang-format on
 #else
 #ifndef TSG_FIX_MASSFLOW_PLANES_H
 #define TSG_FIX_MASSFLOW_PLANES_H
@@ -22,6 +24,7 @@ FixStyle(massflow/planes,FixMassflowPlanes)
 #include <vector>
 
 #include "fix.h"
+
 #include "measure_common.h"
 
 namespace LAMMPS_NS {
@@ -61,9 +64,9 @@ private:
   int window_;
   std::string path_;
   tsg::measure::Append append_;
-  bool continuing_;    // restored from a restart file: the file continues
+  bool continuing_;  // restored from a restart file: the file continues
   bool file_opened_;
-  FILE *fp_;           // rank 0
+  FILE *fp_;  // rank 0
   void place(int i, double u);
 
   // per atom, the only data read every step: the interval [lo, hi) between plane images it lies in,
@@ -75,9 +78,9 @@ private:
   int nside_;
   tsg::measure::NearList near_;  // particles near a plane image (measure_common.h)
   void count_one(int i, double length);
-  std::vector<double> mass_;    // net mass through each plane in the open window, this rank, kg
-  double window_time_;          // duration of the open window so far, s
-  std::vector<double> rate_;    // last completed window, kg/h
+  std::vector<double> mass_;          // net mass through each plane in the open window, this rank, kg
+  double window_time_;                // duration of the open window so far, s
+  std::vector<double> rate_;          // last completed window, kg/h
   tsg::measure::RestartClock clock_;  // the clock across a restart (LIGGGHTS 3.8 restarts its time at 0)
 };
 

@@ -50,11 +50,10 @@ constexpr int kRecordHead = 8;  // id entry exit residence reason type_time[3]
 }  // namespace
 
 FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
-  : Fix(lmp, narg, arg), plane_inlet_(0), plane_outlet_(0), plane_reference_(0),
-    analysis_lo_(-INFINITY), analysis_hi_(INFINITY), has_analysis_(false), existing_given_(false),
-    write_inside_(false), append_(tsg::measure::Append::automatic), continuing_(false), flush_every_(1000), flush_given_(false), first_setup_done_(false),
-    nvalues_(0), state_(nullptr), bounds_(nullptr), inside_(nullptr), fp_(nullptr),
-    cache_valid_(false), inside_now_(0)
+    : Fix(lmp, narg, arg), plane_reference_(0), analysis_lo_(-INFINITY), analysis_hi_(INFINITY), has_analysis_(false),
+      existing_given_(false), write_inside_(false), append_(tsg::measure::Append::automatic), continuing_(false),
+      flush_every_(1000), flush_given_(false), first_setup_done_(false), nvalues_(0), state_(nullptr), bounds_(nullptr),
+      inside_(nullptr), fp_(nullptr), cache_valid_(false), inside_now_(0)
 {
   const std::string who = std::string("fix ") + id + " residence/time";
   const char *zones_file = nullptr;
@@ -72,31 +71,54 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
       return value;
     };
     if (key == "zones") {
-      need(1); zones_file = arg[iarg + 1]; iarg += 2;
+      need(1);
+      zones_file = arg[iarg + 1];
+      iarg += 2;
     } else if (key == "records") {
-      need(1); records_file = arg[iarg + 1]; iarg += 2;
+      need(1);
+      records_file = arg[iarg + 1];
+      iarg += 2;
     } else if (key == "inlet") {
-      need(1); plane_inlet_ = real(1); settings_.has_inlet = true; settings_.inlet = plane_inlet_; iarg += 2;
+      need(1);
+      settings_.has_inlet = true;
+      settings_.inlet = real(1);
+      iarg += 2;
     } else if (key == "outlet") {
-      need(1); plane_outlet_ = real(1); settings_.has_outlet = true; settings_.outlet = plane_outlet_; iarg += 2;
+      need(1);
+      settings_.has_outlet = true;
+      settings_.outlet = real(1);
+      iarg += 2;
     } else if (key == "periodic") {
-      need(1); plane_reference_ = real(1); has_periodic = true; iarg += 2;
+      need(1);
+      plane_reference_ = real(1);
+      has_periodic = true;
+      iarg += 2;
     } else if (key == "analysis") {
-      need(2); analysis_lo_ = real(1); analysis_hi_ = real(2); has_analysis_ = true;
+      need(2);
+      analysis_lo_ = real(1);
+      analysis_hi_ = real(2);
+      has_analysis_ = true;
       if (!(analysis_hi_ > analysis_lo_))
         fail(lmp, who, std::string("analysis XLO XHI = ") + arg[iarg + 1] + " " + arg[iarg + 2] + " needs XLO < XHI");
       iarg += 3;
     } else if (key == "existing") {
       need(1);
-      if (strcmp(arg[iarg + 1], "tag") == 0) settings_.tag_existing = true;
-      else if (strcmp(arg[iarg + 1], "wait") == 0) settings_.tag_existing = false;
-      else fail(lmp, who, std::string("existing = '") + arg[iarg + 1] + "' must be 'tag' or 'wait'");
+      if (strcmp(arg[iarg + 1], "tag") == 0)
+        settings_.tag_existing = true;
+      else if (strcmp(arg[iarg + 1], "wait") == 0)
+        settings_.tag_existing = false;
+      else
+        fail(lmp, who, std::string("existing = '") + arg[iarg + 1] + "' must be 'tag' or 'wait'");
       existing_given_ = true;
       iarg += 2;
     } else if (key == "inside") {
-      need(1); write_inside_ = tsg::measure::parse_yes_no(lmp, who, "inside", arg[iarg + 1]); iarg += 2;
+      need(1);
+      write_inside_ = tsg::measure::parse_yes_no(lmp, who, "inside", arg[iarg + 1]);
+      iarg += 2;
     } else if (key == "append") {
-      need(1); append_ = tsg::measure::parse_append(lmp, who, arg[iarg + 1]); iarg += 2;
+      need(1);
+      append_ = tsg::measure::parse_append(lmp, who, arg[iarg + 1]);
+      iarg += 2;
     } else if (key == "flush") {
       need(1);
       long n = 0;
@@ -106,18 +128,21 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
       flush_given_ = true;
       iarg += 2;
     } else {
-      fail(lmp, who, "unknown keyword '" + key +
-                         "' (allowed: zones, records, inlet, outlet, periodic, analysis, existing, inside, flush, append)");
+      fail(lmp, who,
+           "unknown keyword '" + key +
+               "' (allowed: zones, records, inlet, outlet, periodic, analysis, existing, inside, flush, append)");
     }
   }
   if (!zones_file) fail(lmp, who, "missing 'zones FILE' (the zones file of the mesh generator)");
   if (!records_file) fail(lmp, who, "missing 'records FILE' (where the records are written)");
   settings_.periodic = has_periodic;
   if (has_periodic && (settings_.has_inlet || settings_.has_outlet))
-    fail(lmp, who, "'periodic' cannot be combined with 'inlet' or 'outlet' (a pass runs from one "
-                   "crossing of the reference plane to the next)");
-  if (settings_.has_inlet && settings_.has_outlet && !(plane_outlet_ > plane_inlet_))
-    fail(lmp, who, "outlet " + number(plane_outlet_) + " must lie downstream (+x) of inlet " + number(plane_inlet_));
+    fail(lmp, who,
+         "'periodic' cannot be combined with 'inlet' or 'outlet' (a pass runs from one "
+         "crossing of the reference plane to the next)");
+  if (settings_.has_inlet && settings_.has_outlet && !(settings_.outlet > settings_.inlet))
+    fail(lmp, who,
+         "outlet " + number(settings_.outlet) + " must lie downstream (+x) of inlet " + number(settings_.inlet));
   if (!existing_given_) settings_.tag_existing = !has_periodic;
 
   zones_path_ = zones_file;
@@ -168,10 +193,13 @@ void FixResidenceTime::open_records_file()
   if (settings_.periodic)
     header += "# axis: periodic, passes between crossings of x = " + number(plane_reference_) + " (+x)\n";
   else
-    header += std::string("# axis: open, inlet ") + (settings_.has_inlet ? number(plane_inlet_) : "none (tagged on insertion)") +
-              ", outlet " + (settings_.has_outlet ? number(plane_outlet_) : "none") + "\n";
-  header += "# analysis domain: " + (has_analysis_ ? "[" + number(analysis_lo_) + ", " + number(analysis_hi_) + ")" :
-                                                     std::string("whole axis")) + "\n";
+    header += std::string("# axis: open, inlet ") +
+              (settings_.has_inlet ? number(settings_.inlet) : "none (tagged on insertion)") + ", outlet " +
+              (settings_.has_outlet ? number(settings_.outlet) : "none") + "\n";
+  header +=
+      "# analysis domain: " +
+      (has_analysis_ ? "[" + number(analysis_lo_) + ", " + number(analysis_hi_) + ")" : std::string("whole axis")) +
+      "\n";
   header += "# times in s; residence_time = time inside the analysis domain between entry and exit; "
             "exit_reason: outlet pass deleted lost inside\n";
   header += "# columns: " + res::record_columns(static_cast<int>(zones_.size())) + "\n";
@@ -189,8 +217,7 @@ void FixResidenceTime::init()
   if (!atom->tag_enable) fail(lmp, who, "needs atom IDs (atom_modify id yes)");
   const double lo = domain->boxlo[0], hi = domain->boxhi[0];
   const bool x_periodic = domain->xperiodic;
-  if (settings_.periodic && !x_periodic)
-    fail(lmp, who, "'periodic' needs a box periodic in x (boundary p ...)");
+  if (settings_.periodic && !x_periodic) fail(lmp, who, "'periodic' needs a box periodic in x (boundary p ...)");
   if (!settings_.periodic && x_periodic)
     fail(lmp, who, "the box is periodic in x; give 'periodic X' (the reference plane of a pass)");
   if (tsg::measure::fixed_box_x(domain)) {
@@ -200,8 +227,8 @@ void FixResidenceTime::init()
       fail(lmp, who, e.what());
     }
     using tsg::measure::check_plane_in_box;
-    if (settings_.has_inlet) check_plane_in_box(lmp, who, "inlet plane", plane_inlet_, false);
-    if (settings_.has_outlet) check_plane_in_box(lmp, who, "outlet plane", plane_outlet_, false);
+    if (settings_.has_inlet) check_plane_in_box(lmp, who, "inlet plane", settings_.inlet, false);
+    if (settings_.has_outlet) check_plane_in_box(lmp, who, "outlet plane", settings_.outlet, false);
     if (settings_.periodic) check_plane_in_box(lmp, who, "periodic reference plane", plane_reference_, true);
     if (has_analysis_) {
       check_plane_in_box(lmp, who, "analysis XLO plane", analysis_lo_, false);
@@ -209,8 +236,8 @@ void FixResidenceTime::init()
     }
   }
   std::vector<tsg::axial::Plane> planes;
-  if (settings_.has_inlet) planes.push_back({plane_inlet_, tsg::axial::kInlet});
-  if (settings_.has_outlet) planes.push_back({plane_outlet_, tsg::axial::kOutlet});
+  if (settings_.has_inlet) planes.push_back({settings_.inlet, tsg::axial::kInlet});
+  if (settings_.has_outlet) planes.push_back({settings_.outlet, tsg::axial::kOutlet});
   if (settings_.periodic) planes.push_back({plane_reference_, tsg::axial::kReference});
   tsg::axial::Partition partition;
   try {
@@ -219,8 +246,9 @@ void FixResidenceTime::init()
     fail(lmp, who, e.what());
   }
   if (!partition_edges_.empty() && partition_edges_ != partition.edge)
-    fail(lmp, who, "the box along x changed since the fix was defined; the tracked zone cells would "
-                   "no longer match (unfix and define the fix again)");
+    fail(lmp, who,
+         "the box along x changed since the fix was defined; the tracked zone cells would "
+         "no longer match (unfix and define the fix again)");
   partition_edges_ = partition.edge;
   std::vector<tsg::zones::ZoneType> types;
   for (const auto &z : zones_) types.push_back(z.type);
@@ -245,11 +273,23 @@ void FixResidenceTime::add_record(const res::Record &record)
 {
   pending_.push_back(record);
   switch (record.reason) {
-    case res::Reason::outlet: local_[kOutlet] += 1; local_[kSumResidence] += record.residence_time; break;
-    case res::Reason::pass: local_[kPass] += 1; local_[kSumResidence] += record.residence_time; break;
-    case res::Reason::deleted: local_[kDeleted] += 1; break;
-    case res::Reason::lost: local_[kLost] += 1; break;
-    case res::Reason::inside: local_[kRecordsInside] += 1; break;
+    case res::Reason::outlet:
+      local_[kOutlet] += 1;
+      local_[kSumResidence] += record.residence_time;
+      break;
+    case res::Reason::pass:
+      local_[kPass] += 1;
+      local_[kSumResidence] += record.residence_time;
+      break;
+    case res::Reason::deleted:
+      local_[kDeleted] += 1;
+      break;
+    case res::Reason::lost:
+      local_[kLost] += 1;
+      break;
+    case res::Reason::inside:
+      local_[kRecordsInside] += 1;
+      break;
   }
 }
 
@@ -283,10 +323,14 @@ void FixResidenceTime::track_one(int i, double t0, double t1, bool at_setup, lon
   // the cell edge is never more than a few steps away: it anchors the image-flag wrap-around
   u = unwrapped_x(i, std::isfinite(s[Slot::lo]) ? s[Slot::lo] : s[Slot::hi]);
   const double u0 = u - atom->v[i][0] * (t1 - t0);  // where it was at t0 (exact for constant velocity)
-  auto sink = [this](const res::Record &record) { add_record(record); };
+  auto sink = [this](const res::Record &record) {
+    add_record(record);
+  };
   if (tracker_.advance(s, u0, u, t0, t1, sink, starts)) {
-    if (s[Slot::status] == res::kInside) remember(i);
-    else if (was_inside) ledger_.forget(static_cast<long long>(s[Slot::id]));
+    if (s[Slot::status] == res::kInside)
+      remember(i);
+    else if (was_inside)
+      ledger_.forget(static_cast<long long>(s[Slot::id]));
     sync_hot(i);
   }
 }
@@ -348,8 +392,7 @@ void FixResidenceTime::reconcile(double t)
     all.erase(std::unique(all.begin(), all.end()), all.end());
     std::vector<int> claim(all.size()), result(all.size());
     for (size_t k = 0; k < all.size(); ++k) claim[k] = ledger_.claim(all[k], comm->me, comm->nprocs);
-    if (!all.empty())
-      MPI_Allreduce(claim.data(), result.data(), static_cast<int>(all.size()), MPI_INT, MPI_MIN, world);
+    if (!all.empty()) MPI_Allreduce(claim.data(), result.data(), static_cast<int>(all.size()), MPI_INT, MPI_MIN, world);
     for (size_t k = 0; k < all.size(); ++k)
       if (result[k] == comm->me) add_record(tracker_.close(ledger_.state(all[k])->data(), t, res::Reason::lost));
   }
@@ -364,8 +407,8 @@ void FixResidenceTime::setup(int)
   const double t = now();
   cache_valid_ = false;
   check_ids();
-  reconcile(t);                // deletions between runs, losses during set-up, ledger after a restart
-  track(t, t, true);           // first sight of existing particles; moves between runs are instantaneous
+  reconcile(t);       // deletions between runs, losses during set-up, ledger after a restart
+  track(t, t, true);  // first sight of existing particles; moves between runs are instantaneous
   first_setup_done_ = true;
 }
 
@@ -472,15 +515,24 @@ double FixResidenceTime::compute_vector(int n)
   }
   const double complete = total_[kOutlet] + total_[kPass];
   switch (n) {
-    case 0: return complete + total_[kDeleted] + total_[kLost];
-    case 1: return complete;
-    case 2: return complete > 0 ? total_[kSumResidence] / complete : 0.0;
-    case 3: return total_[kEntered];
-    case 4: return inside_now_;
-    case 5: return total_[kOutlet];
-    case 6: return total_[kPass];
-    case 7: return total_[kDeleted];
-    default: return total_[kLost];
+    case 0:
+      return complete + total_[kDeleted] + total_[kLost];
+    case 1:
+      return complete;
+    case 2:
+      return complete > 0 ? total_[kSumResidence] / complete : 0.0;
+    case 3:
+      return total_[kEntered];
+    case 4:
+      return inside_now_;
+    case 5:
+      return total_[kOutlet];
+    case 6:
+      return total_[kPass];
+    case 7:
+      return total_[kDeleted];
+    default:
+      return total_[kLost];
   }
 }
 
@@ -555,10 +607,16 @@ int FixResidenceTime::maxsize_restart() { return nvalues_ + 1; }
 // (zones.h), so that a restart with other zones is refused instead of mixing two sets of cells.
 namespace {
 constexpr double kRestartMark = -20261201.0;  // not a counter value: marks this layout
-constexpr int kRestartCounters = 7;            // FixResidenceTime::kCounters (checked below)
-enum RestartEntry { kMark, kCountersStart, kFirstSetupDone = kCountersStart + kRestartCounters,
-                    kClockTime, kClockStep, kZonesIdentity };
-}
+constexpr int kRestartCounters = 7;           // FixResidenceTime::kCounters (checked below)
+enum RestartEntry {
+  kMark,
+  kCountersStart,
+  kFirstSetupDone = kCountersStart + kRestartCounters,
+  kClockTime,
+  kClockStep,
+  kZonesIdentity
+};
+}  // namespace
 
 void FixResidenceTime::write_restart(FILE *fp)
 {
@@ -582,14 +640,19 @@ void FixResidenceTime::restart(char *buf)
   const std::string who = std::string("fix ") + id + " residence/time";
   const double *list = reinterpret_cast<const double *>(buf);
   if (list[kMark] != kRestartMark)
-    fail(lmp, who, "the restart file was written by an earlier version of this fix, which did not keep the "
-                   "identity of its zones; continue from a restart file written by this version");
+    fail(lmp, who,
+         "the restart file was written by an earlier version of this fix, which did not keep the "
+         "identity of its zones; continue from a restart file written by this version");
   const std::string difference = tsg::zones::identity_difference(list + kZonesIdentity, zones_);
   if (!difference.empty())
-    fail(lmp, who, "the zones file '" + zones_path_ + "' does not describe the zones the restart file was "
-                   "written with: " + difference + "; a residence measurement cannot mix two sets of zone cells: "
-                   "continue with the zones file of the earlier run, or start a new measurement (a new fix ID "
-                   "and records file)");
+    fail(lmp, who,
+         "the zones file '" + zones_path_ +
+             "' does not describe the zones the restart file was "
+             "written with: " +
+             difference +
+             "; a residence measurement cannot mix two sets of zone cells: "
+             "continue with the zones file of the earlier run, or start a new measurement (a new fix ID "
+             "and records file)");
   for (int c = 0; c < kCounters; ++c) total_[c] = list[kCountersStart + c];
   first_setup_done_ = list[kFirstSetupDone] != 0;
   clock_.load(list[kClockTime], list[kClockStep]);

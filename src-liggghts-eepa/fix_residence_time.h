@@ -20,7 +20,9 @@
 //   8 deleted records                             9 lost records
 // Balance: entries = records + inside.
 #ifdef FIX_CLASS
+// clang-format off
 FixStyle(residence/time,FixResidenceTime)
+// clang-format on
 #else
 #ifndef TSG_FIX_RESIDENCE_TIME_H
 #define TSG_FIX_RESIDENCE_TIME_H
@@ -30,6 +32,7 @@ FixStyle(residence/time,FixResidenceTime)
 #include <vector>
 
 #include "fix.h"
+
 #include "ledger.h"
 #include "measure_common.h"
 #include "residence.h"
@@ -67,7 +70,8 @@ private:
 
   double unwrapped_x(int i, double near) const;
   // refreshes the compact copies (bounds_, inside_) after the state of particle i changed
-  void sync_hot(int i) {
+  void sync_hot(int i)
+  {
     bounds_[i][0] = state_[i][tsg::residence::Slot::lo];
     bounds_[i][1] = state_[i][tsg::residence::Slot::hi];
     inside_[i] = state_[i][tsg::residence::Slot::status] == tsg::residence::kInside;
@@ -88,32 +92,32 @@ private:
   tsg::residence::Tracker tracker_;
   tsg::residence::Settings settings_;
   std::vector<double> partition_edges_;  // of the first init(), to detect a changed box
-  double plane_inlet_, plane_outlet_, plane_reference_;
+  double plane_reference_;
   double analysis_lo_, analysis_hi_;
   bool has_analysis_;
   bool existing_given_;
   bool write_inside_;
   tsg::measure::Append append_;
-  bool continuing_;       // restored from a restart file: the records file continues
+  bool continuing_;  // restored from a restart file: the records file continues
   bool records_opened_ = false;
   int flush_every_;
   bool flush_given_;
   bool first_setup_done_;
 
-  int nvalues_;      // per-atom state size
-  double **state_;   // per-atom state (residence.h Slot layout)
-  double **bounds_;  // per atom: copy of the state's cell bounds lo, hi (the only data read every step)
-  char *inside_;     // per atom: 1 when the state says inside (read on reneighbouring steps)
+  int nvalues_;                  // per-atom state size
+  double **state_;               // per-atom state (residence.h Slot layout)
+  double **bounds_;              // per atom: copy of the state's cell bounds lo, hi (the only data read every step)
+  char *inside_;                 // per atom: 1 when the state says inside (read on reneighbouring steps)
   tsg::measure::NearList near_;  // particles near a cell edge (measure_common.h)
 
   std::string records_path_;
-  FILE *fp_;         // rank 0
+  FILE *fp_;  // rank 0
 
   tsg::residence::Ledger ledger_;  // inside particles owned here, by id (physics/ledger.h)
 
   std::vector<tsg::residence::Record> pending_;
-  double local_[kCounters];   // since the last sync, this rank
-  double total_[kCounters];   // all ranks, as of the last sync (restart-safe)
+  double local_[kCounters];  // since the last sync, this rank
+  double total_[kCounters];  // all ranks, as of the last sync (restart-safe)
   bool cache_valid_;
   double inside_now_;
 

@@ -28,24 +28,28 @@
 namespace tsg::measure {
 
 // Every error of a measurement style: "<who>: <message>" on all ranks (who = "fix ID style").
-inline void fail(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &message) {
+inline void fail(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &message)
+{
   lmp->error->all(FLERR, (who + ": " + message).c_str());
 }
 
 // The same, raised by one rank only (a file that only rank 0 opens, a particle that one rank owns).
-inline void fail_one(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &message) {
+inline void fail_one(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &message)
+{
   lmp->error->one(FLERR, (who + ": " + message).c_str());
 }
 
 // Numbers in messages and file headers: 10 significant digits, no trailing zeros.
-inline std::string number(double value) {
+inline std::string number(double value)
+{
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.10g", value);
   return buffer;
 }
 
 // Whole-token finite real: "1e-3" yes; "", "5cm", "nan", "inf", "1e999" no.
-inline bool parse_real(const char *text, double &value) {
+inline bool parse_real(const char *text, double &value)
+{
   if (!text || !*text) return false;
   char *end = nullptr;
   errno = 0;
@@ -54,7 +58,8 @@ inline bool parse_real(const char *text, double &value) {
 }
 
 // Whole-token integer in [lo, hi].
-inline bool parse_integer(const char *text, long lo, long hi, long &value) {
+inline bool parse_integer(const char *text, long lo, long hi, long &value)
+{
   if (!text || !*text) return false;
   char *end = nullptr;
   errno = 0;
@@ -63,8 +68,8 @@ inline bool parse_integer(const char *text, long lo, long hi, long &value) {
 }
 
 // "yes" or "no", else an error naming the keyword and the value.
-inline bool parse_yes_no(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &keyword,
-                         const char *value) {
+inline bool parse_yes_no(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &keyword, const char *value)
+{
   if (std::string(value) == "yes") return true;
   if (std::string(value) == "no") return false;
   fail(lmp, who, keyword + " = '" + value + "' must be 'yes' or 'no'");
@@ -74,7 +79,8 @@ inline bool parse_yes_no(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const s
 // Axial coordinate of particle i with its periodic images unwrapped (x itself on an open axis). Image
 // flags wrap after IMGMAX periods: when `near` is finite, the result is kept within half that span
 // of it (callers pass a cell edge the particle was near a few steps ago).
-inline double unwrapped_x(const LAMMPS_NS::Atom *atom, const LAMMPS_NS::Domain *domain, int i, double near = NAN) {
+inline double unwrapped_x(const LAMMPS_NS::Atom *atom, const LAMMPS_NS::Domain *domain, int i, double near = NAN)
+{
   double u = atom->x[i][0];
   if (!domain->xperiodic) return u;
   const double length = domain->xprd;
@@ -89,13 +95,15 @@ inline double unwrapped_x(const LAMMPS_NS::Atom *atom, const LAMMPS_NS::Domain *
 
 // The unwrapped position without the wrap-around guard, for the per-step loops: x0 = &x[0][0],
 // length = the period along x (0 on an open axis).
-inline double unwrapped_x_fast(const double *x0, const int *image, int i, double length) {
+inline double unwrapped_x_fast(const double *x0, const int *image, int i, double length)
+{
   return x0[3 * i] + (length > 0 ? ((image[i] & IMGMASK) - IMGMAX) * length : 0.0);
 }
 
 // Whether the box along x is fixed (periodic or fixed walls) rather than shrink-wrapped (the box
 // follows the particles, so positions in the input cannot be checked against it).
-inline bool fixed_box_x(const LAMMPS_NS::Domain *domain) {
+inline bool fixed_box_x(const LAMMPS_NS::Domain *domain)
+{
   return domain->boundary[0][0] <= 1 && domain->boundary[0][1] <= 1;
 }
 
@@ -105,7 +113,8 @@ inline bool fixed_box_x(const LAMMPS_NS::Domain *domain) {
 // before the next build. NearList keeps the others; the per-step loop reads only their x (and image).
 class NearList {
 public:
-  void configure(const LAMMPS_NS::Neighbor *neighbor, const LAMMPS_NS::Atom *atom) {
+  void configure(const LAMMPS_NS::Neighbor *neighbor, const LAMMPS_NS::Atom *atom)
+  {
     usable_ = neighbor->dist_check && neighbor->every == 1 && neighbor->delay == 0 && !neighbor->build_once &&
               !atom->radvary_flag;
     reach_ = neighbor->skin;  // twice the largest move between builds
@@ -116,8 +125,8 @@ public:
   // listed particles that left their interval. look(i) updates bounds[i]. length: the period along x
   // (0 on an open axis).
   template <class Look>
-  void visit(bool everyone, const LAMMPS_NS::Atom *atom, int groupbit, double length, double *const *bounds,
-             Look look) {
+  void visit(bool everyone, const LAMMPS_NS::Atom *atom, int groupbit, double length, double *const *bounds, Look look)
+  {
     const double *x = atom->x[0];  // x is one contiguous block: x[i][0] = x[0][3 i]
     const int *image = atom->image;
     if (everyone || !usable_) {
@@ -155,22 +164,25 @@ private:
 
 // An error unless x lies in the box along x: [lo, hi], or [lo, hi) on a periodic axis where hi is lo.
 inline void check_plane_in_box(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &what, double x,
-                               bool upper_open) {
+                               bool upper_open)
+{
   const double lo = lmp->domain->boxlo[0], hi = lmp->domain->boxhi[0];
   if (x < lo || x > hi || (upper_open && x >= hi))
-    fail(lmp, who, what + " x = " + number(x) + " lies outside the simulation box along x [" + number(lo) + ", " +
-                       number(hi) + (upper_open ? ")" : "]"));
+    fail(lmp, who,
+         what + " x = " + number(x) + " lies outside the simulation box along x [" + number(lo) + ", " + number(hi) +
+             (upper_open ? ")" : "]"));
 }
 
 // Registers a file the style writes / reads (run_files.h); an error when it is already in use.
 inline void claim_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role,
-                         const std::string &path) {
+                         const std::string &path)
+{
   const std::string problem = tsg::run_files::claim_output(path, who, role);
   if (!problem.empty()) fail(lmp, who, problem);
 }
 
-inline void note_input(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role,
-                       const std::string &path) {
+inline void note_input(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role, const std::string &path)
+{
   const std::string problem = tsg::run_files::note_input(path, who, role);
   if (!problem.empty()) fail(lmp, who, problem);
 }
@@ -182,13 +194,15 @@ enum class Append {
   no          // start a new file; refused when continuing from a restart and the file holds data
 };
 
-inline Append parse_append(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *value) {
+inline Append parse_append(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *value)
+{
   return parse_yes_no(lmp, who, "append", value) ? Append::yes : Append::no;
 }
 
 namespace detail {
 
-inline std::vector<std::string> header_lines(const std::string &text, const std::vector<std::string> &free_prefixes) {
+inline std::vector<std::string> header_lines(const std::string &text, const std::vector<std::string> &free_prefixes)
+{
   std::vector<std::string> lines;
   std::string::size_type start = 0;
   while (start < text.size() && text[start] == '#') {
@@ -204,7 +218,8 @@ inline std::vector<std::string> header_lines(const std::string &text, const std:
 }
 
 // What rank 0 found wrong ("" if nothing), for every rank.
-inline std::string broadcast(LAMMPS_NS::LAMMPS *lmp, std::string text) {
+inline std::string broadcast(LAMMPS_NS::LAMMPS *lmp, std::string text)
+{
   int size = static_cast<int>(text.size());
   MPI_Bcast(&size, 1, MPI_INT, 0, lmp->world);
   text.resize(static_cast<std::string::size_type>(size));
@@ -220,7 +235,8 @@ inline std::string broadcast(LAMMPS_NS::LAMMPS *lmp, std::string text) {
 // mean): records of two set-ups never mix in one file. Errors on every rank.
 inline FILE *open_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role,
                          const std::string &path, const std::string &header, Append mode, bool continuing,
-                         const std::vector<std::string> &free_prefixes) {
+                         const std::vector<std::string> &free_prefixes)
+{
   const bool append = mode == Append::yes || (mode == Append::automatic && continuing);
   std::string problem;
   FILE *fp = nullptr;
@@ -244,7 +260,8 @@ inline FILE *open_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const s
       if (had != want) {
         std::size_t k = 0;
         while (k < had.size() && k < want.size() && had[k] == want[k]) ++k;
-        problem = "cannot append to the " + role + " '" + path + "': it was written for another set-up (its header has '" +
+        problem = "cannot append to the " + role + " '" + path +
+                  "': it was written for another set-up (its header has '" +
                   (k < had.size() ? had[k] : std::string("(no line)")) + "' where this fix writes '" +
                   (k < want.size() ? want[k] : std::string("(no line)")) +
                   "'); append only to a file of the same set-up, or give another file name";

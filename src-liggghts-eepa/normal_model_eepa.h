@@ -5,7 +5,9 @@
 // This file only connects the law to LIGGGHTS: per-type-pair parameters, the per-contact history,
 // the dashpot and the forces. The law, its sources and every modelling choice: docs/eepa.md.
 #ifdef NORMAL_MODEL
+// clang-format off
 NORMAL_MODEL(EEPA,eepa,20)
+// clang-format on
 #else
 #ifndef TSG_NORMAL_MODEL_EEPA_H
 #define TSG_NORMAL_MODEL_EEPA_H
@@ -26,12 +28,11 @@ NORMAL_MODEL(EEPA,eepa,20)
 namespace LIGGGHTS {
 namespace ContactModels {
 
-template<>
-class NormalModel<EEPA> : public NormalModelBase
-{
+template <>
+class NormalModel<EEPA> : public NormalModelBase {
 public:
   NormalModel(LAMMPS *lmp, IContactHistorySetup *hsetup, class ContactModelBase *)
-    : NormalModelBase(lmp, hsetup, nullptr)
+      : NormalModelBase(lmp, hsetup, nullptr)
   {
     // Scalars: flag "0" keeps LIGGGHTS from negating them for the partner atom on exchange.
     max_overlap_offset_ = hsetup->add_history_value("eepa_max_overlap", "0");
@@ -39,14 +40,14 @@ public:
     last_touch_step_offset_ = hsetup->add_history_value("eepa_last_touch_step", "0");
   }
 
-  void registerSettings(Settings &settings)
+  void registerSettings(Settings &settings) override
   {
     settings.registerOnOff("tangential_damping", tangential_damping_, true);
   }
 
-  void postSettings(IContactHistorySetup *, ContactModelBase *) {}
+  void postSettings(IContactHistorySetup *, ContactModelBase *) override {}
 
-  void connectToProperties(PropertyRegistry &registry)
+  void connectToProperties(PropertyRegistry &registry) override
   {
     registry.registerProperty("Yeff", &MODEL_PARAMS::createYeff, "model eepa");
     registry.registerProperty("betaeff", &MODEL_PARAMS::createBetaEff, "model eepa");
@@ -56,9 +57,9 @@ public:
   }
 
   // Used by heat conduction to scale the contact area: the loading-branch exponent.
-  double stressStrainExponent() { return eepa_properties_.slope_exponent_for_heat(); }
+  double stressStrainExponent() override { return eepa_properties_.slope_exponent_for_heat(); }
 
-  inline void surfacesIntersect(SurfacesIntersectData &sidata, ForceData &i_forces, ForceData &j_forces)
+  void surfacesIntersect(SurfacesIntersectData &sidata, ForceData &i_forces, ForceData &j_forces) override
   {
     if (sidata.contact_flags) *sidata.contact_flags |= CONTACT_NORMAL_MODEL;
     const int itype = sidata.itype;
@@ -73,9 +74,9 @@ public:
     double *history = sidata.contact_history;
     const double step = static_cast<double>(update->ntimestep);
     const bool touched_last_step = history[last_touch_step_offset_] >= step - 1;
-    const tsg::eepa::History previous = touched_last_step
-        ? tsg::eepa::History{history[max_overlap_offset_], history[plastic_overlap_offset_]}
-        : tsg::eepa::History{};
+    const tsg::eepa::History previous =
+        touched_last_step ? tsg::eepa::History{history[max_overlap_offset_], history[plastic_overlap_offset_]}
+                          : tsg::eepa::History{};
     const tsg::eepa::State state =
         tsg::eepa::evaluate(law, previous, sidata.deltan, eepa_properties_.plastic_root(itype, jtype));
     if (sidata.computeflag && sidata.shearupdate) {
@@ -118,13 +119,13 @@ public:
 
   // Apart but within contact_distance_factor: not a contact, so the pair's history need not
   // survive a neighbour rebuild (the reset itself happens on the next touch, above).
-  void surfacesClose(SurfacesCloseData &scdata, ForceData &, ForceData &)
+  void surfacesClose(SurfacesCloseData &scdata, ForceData &, ForceData &) override
   {
     if (scdata.contact_flags) *scdata.contact_flags &= ~CONTACT_NORMAL_MODEL;
   }
 
-  void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
-  void endPass(SurfacesIntersectData &, ForceData &, ForceData &) {}
+  void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) override {}
+  void endPass(SurfacesIntersectData &, ForceData &, ForceData &) override {}
 
 private:
   double **Yeff_ = nullptr;

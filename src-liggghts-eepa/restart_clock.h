@@ -14,17 +14,20 @@ class RestartClock {
 public:
   double now(const LAMMPS_NS::Update *update) const { return update->get_cur_time() + offset_; }
   // what write_restart stores: the time and the step
-  void save(const LAMMPS_NS::Update *update, double *time, double *step) const {
+  void save(const LAMMPS_NS::Update *update, double *time, double *step) const
+  {
     *time = now(update);
     *step = static_cast<double>(update->ntimestep);
   }
-  void load(double time, double step) {
+  void load(double time, double step)
+  {
     restart_time_ = time;
     restart_step_ = step;
     pending_ = true;
   }
   // call at set-up: continues the clock of the run that wrote the restart file
-  void resume(const LAMMPS_NS::Update *update) {
+  void resume(const LAMMPS_NS::Update *update)
+  {
     if (!pending_) return;
     offset_ = restart_time_ +
               static_cast<double>(update->ntimestep - static_cast<LAMMPS_NS::bigint>(restart_step_)) * update->dt -

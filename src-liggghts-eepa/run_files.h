@@ -19,7 +19,8 @@ namespace tsg::run_files {
 
 // realpath of the folder + the file name (the file itself need not exist yet); the path as given
 // when its folder does not exist (opening it fails later with its own message).
-inline std::string canonical(const std::string &path) {
+inline std::string canonical(const std::string &path)
+{
   const std::string::size_type slash = path.rfind('/');
   const std::string folder = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
   const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
@@ -40,12 +41,14 @@ struct Entry {
   bool output;
 };
 
-inline std::vector<Entry> &registry() {
+inline std::vector<Entry> &registry()
+{
   static std::vector<Entry> entries;
   return entries;
 }
 
-inline std::string &log_name() {
+inline std::string &log_name()
+{
   static std::string name;
   return name;
 }
@@ -58,7 +61,8 @@ inline const std::string &log_path() { return log_name(); }
 // Opens the log on rank 0: truncated unless `append`, then written in append mode and line-buffered,
 // so that every line written before an abort is in the file, and a line another rank appends is never
 // overwritten. nullptr when it cannot be opened.
-inline FILE *open_log(const char *path, bool append) {
+inline FILE *open_log(const char *path, bool append)
+{
   if (!append) {
     FILE *fp = std::fopen(path, "w");
     if (!fp) return nullptr;
@@ -70,7 +74,8 @@ inline FILE *open_log(const char *path, bool append) {
 }
 
 // Appends an error line to the log (for a rank that does not write the log: MPI_Abort follows).
-inline void append_to_log(const std::string &line) {
+inline void append_to_log(const std::string &line)
+{
   if (log_name().empty()) return;
   if (FILE *fp = std::fopen(log_name().c_str(), "a")) {
     std::fputs(line.c_str(), fp);
@@ -79,7 +84,8 @@ inline void append_to_log(const std::string &line) {
 }
 
 namespace detail {
-inline std::string describe(const Entry &e) {
+inline std::string describe(const Entry &e)
+{
   return "the " + e.role + " of " + e.owner + " '" + e.path + "'" +
          (e.output ? " (written by this run)" : " (read by this run)");
 }
@@ -87,7 +93,8 @@ inline std::string describe(const Entry &e) {
 
 // Registers `path` as the `role` written by `owner`; returns "" or why it cannot be: the file is the
 // log, an input of the run or another output.
-inline std::string claim_output(const std::string &path, const std::string &owner, const std::string &role) {
+inline std::string claim_output(const std::string &path, const std::string &owner, const std::string &role)
+{
   const std::string key = canonical(path);
   const std::string self = "the " + role + " of " + owner + " '" + path + "'";
   if (!log_name().empty() && canonical(log_name()) == key)
@@ -101,7 +108,8 @@ inline std::string claim_output(const std::string &path, const std::string &owne
 }
 
 // Registers `path` as the `role` read by `owner`; returns "" or why it cannot be: it is an output.
-inline std::string note_input(const std::string &path, const std::string &owner, const std::string &role) {
+inline std::string note_input(const std::string &path, const std::string &owner, const std::string &role)
+{
   const std::string key = canonical(path);
   for (const Entry &e : registry())
     if (e.canonical == key && e.output)
@@ -112,11 +120,14 @@ inline std::string note_input(const std::string &path, const std::string &owner,
 }
 
 // Forgets every file registered by `owner` (a fix or compute that is deleted or replaced).
-inline void release(const std::string &owner) {
+inline void release(const std::string &owner)
+{
   auto &entries = registry();
   for (auto it = entries.begin(); it != entries.end();) {
-    if (it->owner == owner) it = entries.erase(it);
-    else ++it;
+    if (it->owner == owner)
+      it = entries.erase(it);
+    else
+      ++it;
   }
 }
 

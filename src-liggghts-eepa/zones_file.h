@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "lammps.h"
+
 #include "zones.h"
 
 namespace tsg::measure {

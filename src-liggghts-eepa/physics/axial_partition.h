@@ -12,7 +12,8 @@
 //
 // walk() moves a particle from u0 (time t0) to u1 (time t1) assuming constant velocity over the
 // step, reporting each edge crossed, in order, with the interpolated crossing time.
-#pragma once
+#ifndef TSG_AXIAL_PARTITION_H
+#define TSG_AXIAL_PARTITION_H
 
 #include <algorithm>
 #include <cmath>
@@ -35,17 +36,18 @@ struct Plane {
 
 struct Partition {
   bool periodic = false;
-  double lo = 0, hi = 0, period = 0;   // periodic: base period [lo, hi), period = hi - lo; open: 0
-  std::vector<double> edge;            // M + 1 edges
-  std::vector<int> zone;               // per cell: 0-based zone index or -1
-  std::vector<unsigned char> analysis; // per cell: 1 inside the analysis domain
-  std::vector<unsigned> flags;         // per edge (periodic: flags[M] == flags[0])
+  double lo = 0, hi = 0, period = 0;    // periodic: base period [lo, hi), period = hi - lo; open: 0
+  std::vector<double> edge;             // M + 1 edges
+  std::vector<int> zone;                // per cell: 0-based zone index or -1
+  std::vector<unsigned char> analysis;  // per cell: 1 inside the analysis domain
+  std::vector<unsigned> flags;          // per edge (periodic: flags[M] == flags[0])
 
   int cells() const { return static_cast<int>(zone.size()); }
   double lower(int cell, long per) const { return edge[cell] + static_cast<double>(per) * period; }
   // the upper edge of the last periodic cell is computed as the lower edge of cell 0 one period on,
   // so that a particle exactly on that plane is in one cell only, whichever way it is reached
-  double upper(int cell, long per) const {
+  double upper(int cell, long per) const
+  {
     if (periodic && cell + 1 == cells()) return lower(0, per + 1);
     return edge[cell + 1] + static_cast<double>(per) * period;
   }
@@ -54,7 +56,8 @@ struct Partition {
 // Builds the partition. Zones must lie in [lo, hi] when periodic; analysis bounds may be infinite
 // (no restriction); planes must lie in [lo, hi) when periodic (a plane at hi is the plane at lo).
 inline Partition build_partition(const std::vector<zones::Zone> &zones, bool periodic, double lo, double hi,
-                                 double analysis_lo, double analysis_hi, const std::vector<Plane> &planes) {
+                                 double analysis_lo, double analysis_hi, const std::vector<Plane> &planes)
+{
   Partition p;
   p.periodic = periodic;
   std::vector<double> cuts;
@@ -107,18 +110,27 @@ inline Partition build_partition(const std::vector<zones::Zone> &zones, bool per
 }
 
 // Cell and period of the unwrapped coordinate u, consistent with Partition::lower/upper.
-inline void locate(const Partition &p, double u, int &cell, long &per) {
+inline void locate(const Partition &p, double u, int &cell, long &per)
+{
   const int m = p.cells();
   per = 0;
   if (p.periodic) per = static_cast<long>(std::floor((u - p.lo) / p.period));
   for (int guard = 0; guard < 4; ++guard) {
-    if (u < p.lower(0, per)) { --per; continue; }
-    if (u >= p.upper(m - 1, per)) { ++per; continue; }
+    if (u < p.lower(0, per)) {
+      --per;
+      continue;
+    }
+    if (u >= p.upper(m - 1, per)) {
+      ++per;
+      continue;
+    }
     int a = 0, b = m - 1;  // largest k with lower(k) <= u
     while (a < b) {
       const int mid = (a + b + 1) / 2;
-      if (p.lower(mid, per) <= u) a = mid;
-      else b = mid - 1;
+      if (p.lower(mid, per) <= u)
+        a = mid;
+      else
+        b = mid - 1;
     }
     cell = a;
     return;
@@ -130,7 +142,8 @@ inline void locate(const Partition &p, double u, int &cell, long &per) {
 // edge crossed, in the order crossed. Edges are reported in [0, M) for a periodic axis.
 template <class OnCross>
 inline void walk(const Partition &p, int &cell, long &per, double u0, double u1, double t0, double t1,
-                 OnCross &&on_cross) {
+                 OnCross &&on_cross)
+{
   const int m = p.cells();
   const double du = u1 - u0;
   auto crossing_time = [&](double x) {
@@ -167,3 +180,5 @@ inline void walk(const Partition &p, int &cell, long &per, double u0, double u1,
 }
 
 }  // namespace tsg::axial
+
+#endif

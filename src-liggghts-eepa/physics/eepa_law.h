@@ -4,7 +4,8 @@
 // Morrissey, PhD thesis, University of Edinburgh (2013) ("Morrissey 2013"); the seed paper
 // (Section 2.1, Table 4). Every equation, and every choice made where the sources are silent, is
 // derived in docs/eepa-law.md. Sign convention: overlap δ > 0 in contact, force > 0 repels.
-#pragma once
+#ifndef TSG_EEPA_LAW_H
+#define TSG_EEPA_LAW_H
 
 #include <algorithm>
 #include <cmath>
@@ -66,7 +67,8 @@ inline double power(double x, double e) { return e == 1.5 ? x * std::sqrt(x) : s
 inline double root(double x, double e) { return e == 1.5 ? std::cbrt(x * x) : std::pow(x, 1 / e); }
 
 // Shortest decimal-ish rendering for error messages ("1.2", "-0.001", "2.5e-9", "nan").
-inline std::string format_number(double x) {
+inline std::string format_number(double x)
+{
   if (std::isnan(x)) return "nan";
   if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
   if (x == 0) return "0";
@@ -86,10 +88,11 @@ inline std::string format_number(double x) {
   return exponent == 0 ? text : text + "e" + std::to_string(exponent);
 }
 
-inline void require(bool in_range, const char* name, double value, const char* range) {
+inline void require(bool in_range, const char *name, double value, const char *range)
+{
   if (!in_range)
-    throw std::invalid_argument(std::string(name) + " = " + format_number(value) +
-                                " is outside the allowed range " + range);
+    throw std::invalid_argument(std::string(name) + " = " + format_number(value) + " is outside the allowed range " +
+                                range);
 }
 
 // The adhesive branch of a contact: f_min and δ_min^n (see pull_off).
@@ -99,8 +102,8 @@ struct AdhesiveBranch {
 };
 
 // Adhesive branch below the virgin unloading line of plastic overlap δp (plastic_n = δp^n).
-inline AdhesiveBranch adhesive_branch(const Parameters& p, double k2, double plastic,
-                                      double plastic_n) {
+inline AdhesiveBranch adhesive_branch(const Parameters &p, double k2, double plastic, double plastic_n)
+{
   if (!(p.surface_energy > 0 && plastic_n > 0)) return {0, plastic_n};
   const double contact_radius = std::sqrt(2 * p.effective_radius * plastic);
   const double jkr = 1.5 * kPi * p.surface_energy * contact_radius;
@@ -110,8 +113,8 @@ inline AdhesiveBranch adhesive_branch(const Parameters& p, double k2, double pla
 
 // Adhesive branch of a contact whose largest overlap was max_overlap.
 // plastic_root = λp^(1/n): δp/δmax of the virgin unloading line.
-inline AdhesiveBranch adhesive_branch_after(const Parameters& p, double k2, double max_overlap,
-                                            double plastic_root) {
+inline AdhesiveBranch adhesive_branch_after(const Parameters &p, double k2, double max_overlap, double plastic_root)
+{
   const double plastic_n = p.plasticity_ratio * power(max_overlap, p.slope_exponent);
   if (!(p.surface_energy > 0 && plastic_n > 0)) return {0, plastic_n};
   const double plastic = plastic_root * max_overlap;
@@ -121,7 +124,8 @@ inline AdhesiveBranch adhesive_branch_after(const Parameters& p, double k2, doub
 // Magnitude of the adhesive branch at δ (overlap_n = δ^n): Thakur's kadh δ^X with
 // kadh = f_min/δ_min^X, evaluated as f_min (δ^n/δ_min^n)^(X/n) so that X = 20 neither
 // overflows nor underflows; capped at f_min for δ >= δ_min, where the monomial grows unbounded.
-inline double adhesion(const Parameters& p, const AdhesiveBranch& branch, double overlap_n) {
+inline double adhesion(const Parameters &p, const AdhesiveBranch &branch, double overlap_n)
+{
   if (!(branch.f_min > 0)) return 0;
   if (overlap_n >= branch.min_n) return branch.f_min;
   return branch.f_min * std::pow(overlap_n / branch.min_n, p.tension_exponent / p.slope_exponent);
@@ -130,25 +134,23 @@ inline double adhesion(const Parameters& p, const AdhesiveBranch& branch, double
 }  // namespace detail
 
 // Throws std::invalid_argument naming the parameter, its value and the allowed range.
-inline void validate(const Parameters& p) {
+inline void validate(const Parameters &p)
+{
   constexpr double inf = std::numeric_limits<double>::infinity();
   detail::require(p.k1 > 0 && p.k1 < inf, "k1", p.k1, "(0, inf)");
-  detail::require(p.plasticity_ratio >= 0 && p.plasticity_ratio < 1, "plasticity_ratio",
-                  p.plasticity_ratio, "[0, 1)");
-  detail::require(p.slope_exponent >= 1 && p.slope_exponent < inf, "slope_exponent",
-                  p.slope_exponent, "[1, inf)");
-  detail::require(p.tension_exponent >= 1 && p.tension_exponent < inf, "tension_exponent",
-                  p.tension_exponent, "[1, inf)");
-  detail::require(p.pull_off_force <= 0 && p.pull_off_force > -inf, "pull_off_force",
-                  p.pull_off_force, "(-inf, 0]");
-  detail::require(p.surface_energy >= 0 && p.surface_energy < inf, "surface_energy",
-                  p.surface_energy, "[0, inf)");
-  detail::require(p.effective_radius > 0 && p.effective_radius < inf, "effective_radius",
-                  p.effective_radius, "(0, inf)");
+  detail::require(p.plasticity_ratio >= 0 && p.plasticity_ratio < 1, "plasticity_ratio", p.plasticity_ratio, "[0, 1)");
+  detail::require(p.slope_exponent >= 1 && p.slope_exponent < inf, "slope_exponent", p.slope_exponent, "[1, inf)");
+  detail::require(p.tension_exponent >= 1 && p.tension_exponent < inf, "tension_exponent", p.tension_exponent,
+                  "[1, inf)");
+  detail::require(p.pull_off_force <= 0 && p.pull_off_force > -inf, "pull_off_force", p.pull_off_force, "(-inf, 0]");
+  detail::require(p.surface_energy >= 0 && p.surface_energy < inf, "surface_energy", p.surface_energy, "[0, inf)");
+  detail::require(p.effective_radius > 0 && p.effective_radius < inf, "effective_radius", p.effective_radius,
+                  "(0, inf)");
 }
 
 // λp^(1/n): the plastic overlap per unit overlap of an unloading line leaving the k1 branch.
-inline double plastic_root(double plasticity_ratio, double slope_exponent) {
+inline double plastic_root(double plasticity_ratio, double slope_exponent)
+{
   return std::pow(plasticity_ratio, 1 / slope_exponent);
 }
 
@@ -158,7 +160,8 @@ inline double plastic_root(double plasticity_ratio, double slope_exponent) {
 //   f_min  = min(1.5 π Δγ a, k2 δp^n / 2)  JKR-type pull-off, capped (docs: "Pull-off cap")
 //   δ_min^n = δp^n - f_min / k2            where the unloading line reaches f0 - f_min
 // Without surface energy (or plastic overlap) f_min = 0 and δ_min = δp.
-inline PullOff pull_off(const Parameters& p, double max_overlap) {
+inline PullOff pull_off(const Parameters &p, double max_overlap)
+{
   const double k2 = p.k1 / (1 - p.plasticity_ratio);
   const detail::AdhesiveBranch branch =
       detail::adhesive_branch_after(p, k2, max_overlap, plastic_root(p.plasticity_ratio, p.slope_exponent));
@@ -179,8 +182,8 @@ inline PullOff pull_off(const Parameters& p, double max_overlap) {
 // δ <= 0 (or NaN): Separated, all zero, history reset.
 // plastic_root = plastic_root(λp, n), passed in so that a caller evaluating many contacts of one
 // type pair computes the root once (the overload below computes it per call).
-inline State evaluate(const Parameters& p, const History& previous, double overlap,
-                      double plastic_root) {
+inline State evaluate(const Parameters &p, const History &previous, double overlap, double plastic_root)
+{
   if (!(overlap > 0)) return {0, 0, 0, Branch::Separated, History{}};
   const double n = p.slope_exponent;
   const double f0 = p.pull_off_force;
@@ -194,8 +197,8 @@ inline State evaluate(const Parameters& p, const History& previous, double overl
     const double plastic_per_overlap = plastic_root;  // δp/δ of a line leaving k1
     const double max_overlap = std::max(previous.max_overlap, overlap);
     const History history{max_overlap, plastic_per_overlap * overlap};
-    const detail::AdhesiveBranch adhesive = detail::adhesive_branch(
-        p, k2, plastic_per_overlap * max_overlap, lambda * detail::power(max_overlap, n));
+    const detail::AdhesiveBranch adhesive =
+        detail::adhesive_branch(p, k2, plastic_per_overlap * max_overlap, lambda * detail::power(max_overlap, n));
     const double elastic = p.k1 * overlap_n;
     const double pull = detail::adhesion(p, adhesive, overlap_n);
     return {f0 + elastic, p.k1 * slope, elastic + pull, Branch::Loading, history};
@@ -209,18 +212,19 @@ inline State evaluate(const Parameters& p, const History& previous, double overl
   return {f0 - pull, k2 * slope, 0, Branch::Adhesive, history};
 }
 
-inline State evaluate(const Parameters& p, const History& previous, double overlap) {
+inline State evaluate(const Parameters &p, const History &previous, double overlap)
+{
   return evaluate(p, previous, overlap, plastic_root(p.plasticity_ratio, p.slope_exponent));
 }
 
 // Undamped, non-adhesive restitution of a two-body impact (docs/eepa-law.md, "Restitution"):
 //   e^2 = [1 - (n+1) λp + n λp^(1+1/n)] / (1 - λp)
 // the work returned on the k2 line over the work done on the k1 line.
-inline double undamped_restitution(double plasticity_ratio, double slope_exponent) {
-  detail::require(plasticity_ratio >= 0 && plasticity_ratio < 1, "plasticity_ratio",
-                  plasticity_ratio, "[0, 1)");
-  detail::require(slope_exponent >= 1 && slope_exponent < std::numeric_limits<double>::infinity(),
-                  "slope_exponent", slope_exponent, "[1, inf)");
+inline double undamped_restitution(double plasticity_ratio, double slope_exponent)
+{
+  detail::require(plasticity_ratio >= 0 && plasticity_ratio < 1, "plasticity_ratio", plasticity_ratio, "[0, 1)");
+  detail::require(slope_exponent >= 1 && slope_exponent < std::numeric_limits<double>::infinity(), "slope_exponent",
+                  slope_exponent, "[1, inf)");
   const double n = slope_exponent;
   const double lambda = plasticity_ratio;
   const double e2 = (1 - (n + 1) * lambda + n * std::pow(lambda, 1 + 1 / n)) / (1 - lambda);
@@ -229,7 +233,8 @@ inline double undamped_restitution(double plasticity_ratio, double slope_exponen
 
 // Damping ratio of the Hertz-Mindlin dashpot for a target restitution e (Tsuji et al. 1992;
 // LIGGGHTS/EDEM Hertz-Mindlin): β = ln e / sqrt(ln^2 e + π^2), β in (-1, 0].
-inline double damping_ratio_from_restitution(double e) {
+inline double damping_ratio_from_restitution(double e)
+{
   detail::require(e > 0 && e <= 1, "restitution", e, "(0, 1]");
   const double log_e = std::log(e);
   return log_e / std::sqrt(log_e * log_e + detail::kPi * detail::kPi);
@@ -239,14 +244,17 @@ inline double damping_ratio_from_restitution(double e) {
 //   F_d = -2 sqrt(5/6) β sqrt(S m*) v_n
 // normal_velocity v_n = dδ/dt, positive while approaching (LIGGGHTS' sidata.vn is -dδ/dt).
 // The coefficient −2 sqrt(5/6) β sqrt(S m*) (>= 0) is damping_coefficient, F_d = coefficient · v_n.
-inline double damping_coefficient(double beta, double stiffness, double reduced_mass) {
+inline double damping_coefficient(double beta, double stiffness, double reduced_mass)
+{
   constexpr double sqrt_five_sixths = 0.91287092917527685576;
   return -2 * sqrt_five_sixths * beta * std::sqrt(stiffness * reduced_mass);
 }
 
-inline double damping_force(double beta, double stiffness, double reduced_mass,
-                            double normal_velocity) {
+inline double damping_force(double beta, double stiffness, double reduced_mass, double normal_velocity)
+{
   return damping_coefficient(beta, stiffness, reduced_mass) * normal_velocity;
 }
 
 }  // namespace tsg::eepa
+
+#endif

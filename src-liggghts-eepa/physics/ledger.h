@@ -10,7 +10,8 @@
 //     fewer arrivals than packs; the ids in transit that no rank owns were lost.
 // reconcile steps (on reneighbouring steps and at set-up): take_deleted() with the ids owned now,
 // then, if the global pack gap is not zero, match transit_ids() across ranks, then end_exchange().
-#pragma once
+#ifndef TSG_LEDGER_H
+#define TSG_LEDGER_H
 
 #include <algorithm>
 #include <unordered_map>
@@ -25,7 +26,8 @@ public:
   using Id = long long;
 
   // Particle `id`, owned here and inside, has this state now (added, refreshed, or back from transit).
-  void remember(Id id, const double *state, int size) {
+  void remember(Id id, const double *state, int size)
+  {
     auto it = entries_.find(id);
     if (it == entries_.end()) {
       entries_.emplace(id, Entry{std::vector<double>(state, state + size), false});
@@ -37,7 +39,8 @@ public:
   }
 
   // Particle `id` is no longer inside (its residence ended with a record here).
-  void forget(Id id) {
+  void forget(Id id)
+  {
     auto it = entries_.find(id);
     if (it == entries_.end()) return;
     if (it->second.transit) --transit_;
@@ -45,7 +48,8 @@ public:
   }
 
   // An inside particle was packed for another rank.
-  void packed(Id id) {
+  void packed(Id id)
+  {
     ++packs_;
     auto it = entries_.find(id);
     if (it != entries_.end() && !it->second.transit) {
@@ -62,14 +66,16 @@ public:
   long packs_minus_arrivals() const { return packs_ - arrivals_; }
 
   // Whether `id` is held as resident (owned here, not in transit).
-  bool holds(Id id) const {
+  bool holds(Id id) const
+  {
     auto it = entries_.find(id);
     return it != entries_.end() && !it->second.transit;
   }
 
   // Removes and returns, sorted by id, the resident entries whose particle is not in `owned` (the
   // ids of the inside particles owned here now): they were deleted.
-  std::vector<std::pair<Id, std::vector<double>>> take_deleted(const std::unordered_set<Id> &owned) {
+  std::vector<std::pair<Id, std::vector<double>>> take_deleted(const std::unordered_set<Id> &owned)
+  {
     std::vector<Id> gone;
     for (const auto &entry : entries_)
       if (!entry.second.transit && !owned.count(entry.first)) gone.push_back(entry.first);
@@ -84,7 +90,8 @@ public:
   }
 
   // Ids in transit from here (unsorted).
-  std::vector<Id> transit_ids() const {
+  std::vector<Id> transit_ids() const
+  {
     std::vector<Id> ids;
     for (const auto &entry : entries_)
       if (entry.second.transit) ids.push_back(entry.first);
@@ -95,24 +102,29 @@ public:
   // (resident here: it arrived, so it is not lost), `nobody` if I know nothing of it. The lowest
   // claim over all ranks decides: -1 means owned somewhere, a rank number means lost, recorded by
   // that rank (the lowest one holding it in transit).
-  int claim(Id id, int me, int nobody) const {
+  int claim(Id id, int me, int nobody) const
+  {
     auto it = entries_.find(id);
     if (it == entries_.end()) return nobody;
     return it->second.transit ? me : -1;
   }
 
   // The state of an entry (nullptr when none).
-  const std::vector<double> *state(Id id) const {
+  const std::vector<double> *state(Id id) const
+  {
     auto it = entries_.find(id);
     return it == entries_.end() ? nullptr : &it->second.state;
   }
 
   // After a reconcile: entries still in transit arrived elsewhere (or were recorded as lost).
-  void end_exchange() {
+  void end_exchange()
+  {
     if (transit_ > 0)
       for (auto it = entries_.begin(); it != entries_.end();) {
-        if (it->second.transit) it = entries_.erase(it);
-        else ++it;
+        if (it->second.transit)
+          it = entries_.erase(it);
+        else
+          ++it;
       }
     transit_ = 0;
     packs_ = arrivals_ = 0;
@@ -131,3 +143,5 @@ private:
 };
 
 }  // namespace tsg::residence
+
+#endif

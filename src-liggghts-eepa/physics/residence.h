@@ -20,7 +20,8 @@
 //   "pass" and the next pass starts at the same instant.
 // Analysis domain [analysis_lo, analysis_hi): time outside it (buffer zones) counts neither to any
 // zone nor to the residence time, which is therefore exit - entry minus time spent in the buffers.
-#pragma once
+#ifndef TSG_RESIDENCE_H
+#define TSG_RESIDENCE_H
 
 #include <cstdio>
 #include <limits>
@@ -37,13 +38,19 @@ enum Status : int { kUnseen = 0, kWaiting = 1, kInside = 2, kDone = 3 };
 
 enum class Reason { outlet = 0, pass = 1, deleted = 2, lost = 3, inside = 4 };
 
-inline const char *reason_name(Reason reason) {
+inline const char *reason_name(Reason reason)
+{
   switch (reason) {
-    case Reason::outlet: return "outlet";
-    case Reason::pass: return "pass";
-    case Reason::deleted: return "deleted";
-    case Reason::lost: return "lost";
-    default: return "inside";
+    case Reason::outlet:
+      return "outlet";
+    case Reason::pass:
+      return "pass";
+    case Reason::deleted:
+      return "deleted";
+    case Reason::lost:
+      return "lost";
+    default:
+      return "inside";
   }
 }
 
@@ -87,7 +94,8 @@ class Tracker {
 public:
   Tracker() = default;
   Tracker(axial::Partition partition, std::vector<zones::ZoneType> types, Settings settings)
-      : partition_(std::move(partition)), types_(std::move(types)), settings_(settings) {}
+      : partition_(std::move(partition)), types_(std::move(types)), settings_(settings)
+  {}
 
   int zones() const { return static_cast<int>(types_.size()); }
   int state_size() const { return Slot::zone0 + zones(); }
@@ -96,7 +104,8 @@ public:
 
   // First sight of a particle at unwrapped coordinate u, time t. `existing`: it was there when the
   // tracking started (rather than inserted later). Returns the new status.
-  int first_sight(double *s, double id, double u, double t, bool existing) const {
+  int first_sight(double *s, double id, double u, double t, bool existing) const
+  {
     int cell = 0;
     long per = 0;
     axial::locate(partition_, u, cell, per);
@@ -127,7 +136,8 @@ public:
   // crossing times are concerned. Records (outlet, pass) go to sink(const Record&); `starts` is
   // incremented for every entry (tagging or new pass). Returns true when the state changed.
   template <class Sink>
-  bool advance(double *s, double u0, double u, double t0, double t1, Sink &&sink, long &starts) const {
+  bool advance(double *s, double u0, double u, double t0, double t1, Sink &&sink, long &starts) const
+  {
     if (stays(s, u) || s[Slot::status] == kDone) return false;
     int cell = static_cast<int>(s[Slot::cell]);
     long per = static_cast<long>(s[Slot::period]);
@@ -170,7 +180,8 @@ public:
   }
 
   // The record of an inside particle leaving (or observed) at time t; the state is not changed.
-  Record close(const double *s, double t, Reason reason) const {
+  Record close(const double *s, double t, Reason reason) const
+  {
     Record r;
     r.id = s[Slot::id];
     r.entry_time = s[Slot::entry_time];
@@ -190,7 +201,8 @@ public:
   }
 
 private:
-  void set_bounds(double *s, int cell, long per) const {
+  void set_bounds(double *s, int cell, long per) const
+  {
     if (s[Slot::status] == kDone) {  // never looked at again
       s[Slot::lo] = -std::numeric_limits<double>::infinity();
       s[Slot::hi] = std::numeric_limits<double>::infinity();
@@ -200,7 +212,8 @@ private:
     }
   }
 
-  void start(double *s, double t) const {
+  void start(double *s, double t) const
+  {
     s[Slot::status] = kInside;
     s[Slot::entry_time] = t;
     s[Slot::cell_time] = t;
@@ -209,7 +222,8 @@ private:
     for (int z = 0; z < zones(); ++z) s[Slot::zone0 + z] = 0;
   }
 
-  void add_time(double *s, int cell, double dt) const {
+  void add_time(double *s, int cell, double dt) const
+  {
     if (!partition_.analysis[cell]) return;
     s[Slot::t_analysis] += dt;
     if (partition_.zone[cell] >= 0) s[Slot::zone0 + partition_.zone[cell]] += dt;
@@ -223,7 +237,8 @@ private:
 // One line of the records file (no newline):
 //   id entry_time exit_time residence_time exit_reason time_conveying time_kneading time_chopping
 //   time_zone_1 ... time_zone_N
-inline std::string format_record(const Record &r) {
+inline std::string format_record(const Record &r)
+{
   char buffer[64];
   std::string line;
   std::snprintf(buffer, sizeof buffer, "%.0f", r.id);
@@ -246,11 +261,13 @@ inline std::string format_record(const Record &r) {
 }
 
 // Column names of the records file, for its "# columns:" header line.
-inline std::string record_columns(int nzones) {
-  std::string line =
-      "id entry_time exit_time residence_time exit_reason time_conveying time_kneading time_chopping";
+inline std::string record_columns(int nzones)
+{
+  std::string line = "id entry_time exit_time residence_time exit_reason time_conveying time_kneading time_chopping";
   for (int z = 1; z <= nzones; ++z) line += " time_zone_" + std::to_string(z);
   return line;
 }
 
 }  // namespace tsg::residence
+
+#endif

@@ -8,7 +8,8 @@
 //   R² - (a² + ab + b²)/3 = [ (R-a)(R+a) + (R-b)(R+b) + ((R-a)(R+b) + (R-b)(R+a))/2 ] / 3,
 // so nothing cancels: thin slabs and small caps keep full relative precision, and the pieces of a
 // sphere cut by adjacent slabs add up to the whole sphere.
-#pragma once
+#ifndef TSG_SPHERE_SLAB_H
+#define TSG_SPHERE_SLAB_H
 
 #include <algorithm>
 
@@ -18,7 +19,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 namespace detail {
 // R² - (a² + ab + b²)/3 for -R <= a <= b <= R, without cancellation (see the top of the file)
-inline double bracket(double radius, double a, double b) {
+inline double bracket(double radius, double a, double b)
+{
   const double below_a = radius + a, above_a = radius - a;
   const double below_b = radius + b, above_b = radius - b;
   return (above_a * below_a + above_b * below_b + 0.5 * (above_a * below_b + above_b * below_a)) / 3.0;
@@ -28,7 +30,8 @@ inline double bracket(double radius, double a, double b) {
 inline double sphere_volume(double radius) { return 4.0 / 3.0 * kPi * radius * radius * radius; }
 
 // Volume of the sphere (centre, radius) between the planes x = x0 and x = x1 (x0 <= x1).
-inline double sphere_slab_volume(double centre, double radius, double x0, double x1) {
+inline double sphere_slab_volume(double centre, double radius, double x0, double x1)
+{
   const double a = std::max(x0 - centre, -radius);
   const double b = std::min(x1 - centre, radius);
   if (!(b > a)) return 0.0;
@@ -36,7 +39,8 @@ inline double sphere_slab_volume(double centre, double radius, double x0, double
 }
 
 // Fraction (0..1) of the sphere's volume between x0 and x1.
-inline double sphere_slab_fraction(double centre, double radius, double x0, double x1) {
+inline double sphere_slab_fraction(double centre, double radius, double x0, double x1)
+{
   const double a = std::max(x0 - centre, -radius) / radius;
   const double b = std::min(x1 - centre, radius) / radius;
   if (!(b > a)) return 0.0;
@@ -44,3 +48,5 @@ inline double sphere_slab_fraction(double centre, double radius, double x0, doub
 }
 
 }  // namespace tsg::geometry
+
+#endif

@@ -3,7 +3,8 @@
 // Zones are slabs x_start <= x < x_end (zones.h); the volume of the sphere inside a slab is exact
 // (sphere_slab.h), not a count of centres. On a periodic axis the image of a sphere cut by the
 // periodic boundary is included, so that sphere contributes to the zones at both ends of the box.
-#pragma once
+#ifndef TSG_ZONE_OVERLAP_H
+#define TSG_ZONE_OVERLAP_H
 
 #include <cstddef>
 #include <vector>
@@ -17,10 +18,12 @@ namespace tsg::zones {
 // positive volume. period = 0: open axis; otherwise the axis is periodic over [box_lo, box_lo + period)
 // and the image of a sphere sticking out through either end is included.
 template <class F>
-inline void for_each_overlap(const std::vector<Zone> &zones, double centre, double radius, double period,
-                             double box_lo, F &&f) {
+inline void for_each_overlap(const std::vector<Zone> &zones, double centre, double radius, double period, double box_lo,
+                             F &&f)
+{
   auto one = [&](double c) {
-    for (std::size_t z = first_zone_ending_after(zones, c - radius); z < zones.size() && zones[z].x_start < c + radius; ++z) {
+    for (std::size_t z = first_zone_ending_after(zones, c - radius); z < zones.size() && zones[z].x_start < c + radius;
+         ++z) {
       const double fraction = geometry::sphere_slab_fraction(c, radius, zones[z].x_start, zones[z].x_end);
       if (fraction > 0) f(static_cast<int>(z), fraction);
     }
@@ -33,3 +36,5 @@ inline void for_each_overlap(const std::vector<Zone> &zones, double centre, doub
 }
 
 }  // namespace tsg::zones
+
+#endif

@@ -11,13 +11,14 @@
 // Axial direction is x (screw axes along +x, flow towards +x).
 //
 // Every violation throws std::invalid_argument with the source name, the line number and the reason.
-#pragma once
+#ifndef TSG_ZONES_H
+#define TSG_ZONES_H
 
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <istream>
 #include <sstream>
@@ -30,16 +31,20 @@ namespace tsg::zones {
 enum class ZoneType { conveying = 0, kneading = 1, chopping = 2 };
 constexpr int kZoneTypes = 3;
 
-inline const char *type_name(ZoneType type) {
+inline const char *type_name(ZoneType type)
+{
   switch (type) {
-    case ZoneType::conveying: return "conveying";
-    case ZoneType::kneading: return "kneading";
-    default: return "chopping";
+    case ZoneType::conveying:
+      return "conveying";
+    case ZoneType::kneading:
+      return "kneading";
+    default:
+      return "chopping";
   }
 }
 
 struct Zone {
-  int index;           // 1-based, as in the file
+  int index;  // 1-based, as in the file
   ZoneType type;
   double x_start;      // m
   double x_end;        // m
@@ -49,19 +54,22 @@ struct Zone {
 
 namespace detail {
 
-inline std::string number(double value) {
+inline std::string number(double value)
+{
   std::ostringstream out;
   out.precision(10);
   out << value;
   return out.str();
 }
 
-inline std::string where(const std::string &source, int line) {
+inline std::string where(const std::string &source, int line)
+{
   return source + ", line " + std::to_string(line) + ": ";
 }
 
 // Whole-token number parse: "1e-3" yes, "1e-3m", "", "nan", "inf" no.
-inline bool parse_number(const std::string &token, double &value) {
+inline bool parse_number(const std::string &token, double &value)
+{
   if (token.empty()) return false;
   const char *begin = token.c_str();
   char *end = nullptr;
@@ -71,7 +79,8 @@ inline bool parse_number(const std::string &token, double &value) {
   return std::isfinite(value);
 }
 
-inline bool parse_index(const std::string &token, long &value) {
+inline bool parse_index(const std::string &token, long &value)
+{
   if (token.empty()) return false;
   const char *begin = token.c_str();
   char *end = nullptr;
@@ -83,7 +92,8 @@ inline bool parse_index(const std::string &token, long &value) {
 }  // namespace detail
 
 // Parses a zones file from a stream; `source` names it in error messages (usually its path).
-inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source) {
+inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source)
+{
   using detail::where;
   std::vector<Zone> zones;
   std::string text;
@@ -97,7 +107,8 @@ inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source
     std::vector<std::string> tokens;
     for (std::string token; fields >> token;) tokens.push_back(token);
     if (tokens.size() != 5)
-      throw std::invalid_argument(where(source, line_number) + "expected 5 fields 'index type x_start x_end free_volume', found " +
+      throw std::invalid_argument(where(source, line_number) +
+                                  "expected 5 fields 'index type x_start x_end free_volume', found " +
                                   std::to_string(tokens.size()) + " in '" + text + "'");
     Zone zone{};
     zone.line = line_number;
@@ -109,9 +120,12 @@ inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source
       throw std::invalid_argument(where(source, line_number) + "index " + tokens[0] + " out of sequence: expected " +
                                   std::to_string(expected) + " (zones are numbered 1, 2, 3, ... in file order)");
     zone.index = static_cast<int>(index);
-    if (tokens[1] == "conveying") zone.type = ZoneType::conveying;
-    else if (tokens[1] == "kneading") zone.type = ZoneType::kneading;
-    else if (tokens[1] == "chopping") zone.type = ZoneType::chopping;
+    if (tokens[1] == "conveying")
+      zone.type = ZoneType::conveying;
+    else if (tokens[1] == "kneading")
+      zone.type = ZoneType::kneading;
+    else if (tokens[1] == "chopping")
+      zone.type = ZoneType::chopping;
     else
       throw std::invalid_argument(where(source, line_number) + "type '" + tokens[1] +
                                   "' is not one of conveying, kneading, chopping");
@@ -133,10 +147,10 @@ inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source
                                     ", before zone " + std::to_string(previous.index) + " (line " +
                                     std::to_string(previous.line) + "): zones must be sorted by x_start");
       if (zone.x_start < previous.x_end)
-        throw std::invalid_argument(where(source, line_number) + "zone " + tokens[0] + " [" + tokens[2] + ", " + tokens[3] +
-                                    "] overlaps zone " + std::to_string(previous.index) + " (line " +
-                                    std::to_string(previous.line) + ") which ends at x = " +
-                                    detail::number(previous.x_end) + " (adjacent zones may touch, not overlap)");
+        throw std::invalid_argument(
+            where(source, line_number) + "zone " + tokens[0] + " [" + tokens[2] + ", " + tokens[3] +
+            "] overlaps zone " + std::to_string(previous.index) + " (line " + std::to_string(previous.line) +
+            ") which ends at x = " + detail::number(previous.x_end) + " (adjacent zones may touch, not overlap)");
     }
     zones.push_back(zone);
   }
@@ -146,13 +160,15 @@ inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source
   return zones;
 }
 
-inline std::vector<Zone> parse_zones_text(const std::string &text, const std::string &source) {
+inline std::vector<Zone> parse_zones_text(const std::string &text, const std::string &source)
+{
   std::istringstream in(text);
   return parse_zones(in, source);
 }
 
 // Throws unless every zone lies inside [lo, hi] (the simulation box along x).
-inline void check_inside(const std::vector<Zone> &zones, double lo, double hi, const std::string &source) {
+inline void check_inside(const std::vector<Zone> &zones, double lo, double hi, const std::string &source)
+{
   for (const Zone &zone : zones)
     if (zone.x_start < lo || zone.x_end > hi) {
       std::ostringstream message;
@@ -164,24 +180,30 @@ inline void check_inside(const std::vector<Zone> &zones, double lo, double hi, c
 }
 
 // Index (0-based) of the zone containing x, half-open [x_start, x_end); -1 when none does.
-inline int find_zone(const std::vector<Zone> &zones, double x) {
+inline int find_zone(const std::vector<Zone> &zones, double x)
+{
   std::size_t lo = 0, hi = zones.size();
   while (lo < hi) {  // first zone with x_end > x
     const std::size_t mid = (lo + hi) / 2;
-    if (zones[mid].x_end > x) hi = mid;
-    else lo = mid + 1;
+    if (zones[mid].x_end > x)
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   if (lo < zones.size() && zones[lo].x_start <= x) return static_cast<int>(lo);
   return -1;
 }
 
 // First zone (0-based) whose x_end is greater than x; zones.size() when none.
-inline std::size_t first_zone_ending_after(const std::vector<Zone> &zones, double x) {
+inline std::size_t first_zone_ending_after(const std::vector<Zone> &zones, double x)
+{
   std::size_t lo = 0, hi = zones.size();
   while (lo < hi) {
     const std::size_t mid = (lo + hi) / 2;
-    if (zones[mid].x_end > x) hi = mid;
-    else lo = mid + 1;
+    if (zones[mid].x_end > x)
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   return lo;
 }
@@ -194,7 +216,8 @@ inline std::size_t first_zone_ending_after(const std::vector<Zone> &zones, doubl
 constexpr int kIdentityHead = 3;
 constexpr int kIdentityPerZone = 4;
 
-inline std::uint64_t content_hash(const std::vector<Zone> &zones) {
+inline std::uint64_t content_hash(const std::vector<Zone> &zones)
+{
   std::uint64_t hash = 14695981039346656037ull;  // FNV-1a offset basis and prime (64 bit)
   auto mix = [&hash](double value) {
     unsigned char bytes[sizeof value];
@@ -213,13 +236,15 @@ inline std::uint64_t content_hash(const std::vector<Zone> &zones) {
   return hash;
 }
 
-inline std::string hash_text(std::uint64_t hash) {
+inline std::string hash_text(std::uint64_t hash)
+{
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
   return text;
 }
 
-inline std::vector<double> identity(const std::vector<Zone> &zones) {
+inline std::vector<double> identity(const std::vector<Zone> &zones)
+{
   const std::uint64_t hash = content_hash(zones);
   std::vector<double> out{static_cast<double>(zones.size()), static_cast<double>(hash >> 32),
                           static_cast<double>(hash & 0xffffffffull)};
@@ -228,19 +253,22 @@ inline std::vector<double> identity(const std::vector<Zone> &zones) {
   return out;
 }
 
-inline std::size_t identity_size(const double *stored) {
+inline std::size_t identity_size(const double *stored)
+{
   return kIdentityHead + kIdentityPerZone * static_cast<std::size_t>(stored[0]);
 }
 
 // "" when `stored` (an identity() written earlier) describes `zones`; otherwise what differs first,
 // e.g. "zone 2 x_start: 0.03 in the restart file, 0.035 now".
-inline std::string identity_difference(const double *stored, const std::vector<Zone> &zones) {
+inline std::string identity_difference(const double *stored, const std::vector<Zone> &zones)
+{
   using detail::number;
   const std::vector<double> now = identity(zones);
   const std::size_t count = static_cast<std::size_t>(stored[0]);
-  const std::uint64_t stored_hash = (static_cast<std::uint64_t>(stored[1]) << 32) | static_cast<std::uint64_t>(stored[2]);
-  const std::string hashes = " (content hash " + hash_text(stored_hash) + " in the restart file, " +
-                             hash_text(content_hash(zones)) + " now)";
+  const std::uint64_t stored_hash =
+      (static_cast<std::uint64_t>(stored[1]) << 32) | static_cast<std::uint64_t>(stored[2]);
+  const std::string hashes =
+      " (content hash " + hash_text(stored_hash) + " in the restart file, " + hash_text(content_hash(zones)) + " now)";
   if (count != zones.size())
     return std::to_string(count) + " zones in the restart file, " + std::to_string(zones.size()) + " now" + hashes;
   const char *fields[kIdentityPerZone] = {"type", "x_start", "x_end", "free_volume"};
@@ -259,3 +287,5 @@ inline std::string identity_difference(const double *stored, const std::vector<Z
 }
 
 }  // namespace tsg::zones
+
+#endif

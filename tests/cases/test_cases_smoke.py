@@ -228,7 +228,7 @@ def test_analysis_report_on_a_real_case_run(periodic_forward, tmp_path):
     # the post-analysis package on the output of our own case run (not a synthetic fixture)
     import json
     proc = subprocess.run([PYTHON, "-m", "tsg_analysis", "report", str(periodic_forward), "--out", str(tmp_path),
-                           "--allow-transient", "--no-snapshot"],
+                           "--no-snapshot"],
                           capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=str(ROOT / "analysis")))
     assert proc.returncode == 0, proc.stderr[-2000:]
     summary = json.loads((tmp_path / "summary.json").read_text())

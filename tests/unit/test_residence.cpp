@@ -28,18 +28,21 @@ using tsg::residence::Tracker;
 constexpr double kInf = INFINITY;
 
 // zones: 1 conveying [0.01, 0.03), 2 kneading [0.03, 0.04), gap, 3 chopping [0.05, 0.07)
-std::vector<tsg::zones::Zone> test_zones() {
+std::vector<tsg::zones::Zone> test_zones()
+{
   return tsg::zones::parse_zones_text(
       "1 conveying 0.01 0.03 1e-6\n2 kneading 0.03 0.04 5e-7\n3 chopping 0.05 0.07 1e-6\n", "z");
 }
 
-std::vector<tsg::zones::ZoneType> types_of(const std::vector<tsg::zones::Zone> &zones) {
+std::vector<tsg::zones::ZoneType> types_of(const std::vector<tsg::zones::Zone> &zones)
+{
   std::vector<tsg::zones::ZoneType> types;
   for (const auto &z : zones) types.push_back(z.type);
   return types;
 }
 
-TEST(Partition, OpenAxisCellsZonesAndPlanes) {
+TEST(Partition, OpenAxisCellsZonesAndPlanes)
+{
   const auto p = build_partition(test_zones(), false, 0, 0, -kInf, kInf, {{0.005, kInlet}, {0.08, kOutlet}});
   // edges: -inf 0.005 0.01 0.03 0.04 0.05 0.07 0.08 +inf -> 8 cells
   ASSERT_EQ(p.cells(), 8);
@@ -58,7 +61,8 @@ TEST(Partition, OpenAxisCellsZonesAndPlanes) {
   EXPECT_EQ(cell, 6);
 }
 
-TEST(Partition, PeriodicAxisAndAnalysisDomain) {
+TEST(Partition, PeriodicAxisAndAnalysisDomain)
+{
   const auto p = build_partition(test_zones(), true, 0.0, 0.1, 0.02, 0.075, {{0.1, kReference}});
   // a plane at hi is the plane at lo
   EXPECT_EQ(p.flags.front(), kReference);
@@ -82,7 +86,8 @@ TEST(Partition, PeriodicAxisAndAnalysisDomain) {
     }
 }
 
-TEST(Partition, WalkReportsEveryEdgeWithInterpolatedTimes) {
+TEST(Partition, WalkReportsEveryEdgeWithInterpolatedTimes)
+{
   const auto p = build_partition(test_zones(), false, 0, 0, -kInf, kInf, {});
   int cell = 0;
   long per = 0;
@@ -111,18 +116,21 @@ TEST(Partition, WalkReportsEveryEdgeWithInterpolatedTimes) {
 
 // Runs a tracker over straight-line motion u(t) = u0 + v t for nsteps steps of dt; returns records.
 std::vector<Record> run_linear(const Tracker &tracker, double u0, double v, double dt, int nsteps, double *state,
-                               bool existing = false, long *starts_out = nullptr) {
+                               bool existing = false, long *starts_out = nullptr)
+{
   std::vector<Record> records;
   tracker.first_sight(state, 7, u0, 0.0, existing);
   long starts = state[Slot::status] == tsg::residence::kInside ? 1 : 0;
   for (int n = 1; n <= nsteps; ++n)
-    tracker.advance(state, u0 + v * (n - 1) * dt, u0 + v * n * dt, (n - 1) * dt, n * dt,
-                    [&](const Record &r) { records.push_back(r); }, starts);
+    tracker.advance(
+        state, u0 + v * (n - 1) * dt, u0 + v * n * dt, (n - 1) * dt, n * dt,
+        [&](const Record &r) { records.push_back(r); }, starts);
   if (starts_out) *starts_out = starts;
   return records;
 }
 
-TEST(Tracker, OpenAxisResidenceIsLengthOverSpeedPerZoneAndInTotal) {
+TEST(Tracker, OpenAxisResidenceIsLengthOverSpeedPerZoneAndInTotal)
+{
   const auto zones = test_zones();
   Settings s;
   s.has_inlet = true;
@@ -154,7 +162,8 @@ TEST(Tracker, OpenAxisResidenceIsLengthOverSpeedPerZoneAndInTotal) {
   }
 }
 
-TEST(Tracker, NoInletTagsOnFirstSightAndExistingWaitIgnores) {
+TEST(Tracker, NoInletTagsOnFirstSightAndExistingWaitIgnores)
+{
   const auto zones = test_zones();
   Settings s;
   s.has_outlet = true;
@@ -174,17 +183,20 @@ TEST(Tracker, NoInletTagsOnFirstSightAndExistingWaitIgnores) {
   EXPECT_EQ(tracker.first_sight(state.data(), 1, 0.09, 0.0, false), tsg::residence::kDone);
 }
 
-TEST(Tracker, BackflowTimeCountsInTheZoneWhereItIsSpent) {
+TEST(Tracker, BackflowTimeCountsInTheZoneWhereItIsSpent)
+{
   const auto zones = test_zones();
   Settings s;
   const Tracker tracker(build_partition(zones, false, 0, 0, -kInf, kInf, {}), types_of(zones), s);
   std::vector<double> st(static_cast<size_t>(tracker.state_size()));
   std::vector<Record> records;
   long starts = 0;
-  auto sink = [&](const Record &r) { records.push_back(r); };
-  tracker.first_sight(st.data(), 3, 0.025, 0.0, false);  // zone 1
-  tracker.advance(st.data(), 0.025, 0.035, 0.0, 1.0, sink, starts);   // crosses 0.03 at t = 0.5
-  tracker.advance(st.data(), 0.035, 0.015, 1.0, 2.0, sink, starts);   // back across 0.03 at t = 1.25
+  auto sink = [&](const Record &r) {
+    records.push_back(r);
+  };
+  tracker.first_sight(st.data(), 3, 0.025, 0.0, false);              // zone 1
+  tracker.advance(st.data(), 0.025, 0.035, 0.0, 1.0, sink, starts);  // crosses 0.03 at t = 0.5
+  tracker.advance(st.data(), 0.035, 0.015, 1.0, 2.0, sink, starts);  // back across 0.03 at t = 1.25
   const Record r = tracker.close(st.data(), 3.0, Reason::deleted);
   EXPECT_EQ(r.reason, Reason::deleted);
   EXPECT_NEAR(r.zone_time[0], 0.5 + 1.75, 1e-14);
@@ -193,7 +205,8 @@ TEST(Tracker, BackflowTimeCountsInTheZoneWhereItIsSpent) {
   EXPECT_TRUE(records.empty());
 }
 
-Tracker periodic_tracker(double alo, double ahi, bool tag_existing = false) {
+Tracker periodic_tracker(double alo, double ahi, bool tag_existing = false)
+{
   const auto zones = test_zones();
   Settings s;
   s.periodic = true;
@@ -201,7 +214,8 @@ Tracker periodic_tracker(double alo, double ahi, bool tag_existing = false) {
   return Tracker(build_partition(zones, true, 0.0, 0.1, alo, ahi, {{0.0, kReference}}), types_of(zones), s);
 }
 
-TEST(Tracker, PeriodicPassesKRecordsOfLengthOverSpeed) {
+TEST(Tracker, PeriodicPassesKRecordsOfLengthOverSpeed)
+{
   const Tracker tracker = periodic_tracker(-kInf, kInf);
   std::vector<double> state(static_cast<size_t>(tracker.state_size()));
   const double v = 0.07, u0 = 0.045, dt = 1e-3;
@@ -224,7 +238,8 @@ TEST(Tracker, PeriodicPassesKRecordsOfLengthOverSpeed) {
   }
 }
 
-TEST(Tracker, PeriodicBuffersAreExcludedFromTheAnalysis) {
+TEST(Tracker, PeriodicBuffersAreExcludedFromTheAnalysis)
+{
   const Tracker tracker = periodic_tracker(0.02, 0.06);  // zone 1 half in the buffer, zone 3 partly
   std::vector<double> state(static_cast<size_t>(tracker.state_size()));
   const double v = 0.1;
@@ -239,12 +254,15 @@ TEST(Tracker, PeriodicBuffersAreExcludedFromTheAnalysis) {
   }
 }
 
-TEST(Tracker, OscillationAcrossTheReferencePlaneIsNotAPass) {
+TEST(Tracker, OscillationAcrossTheReferencePlaneIsNotAPass)
+{
   const Tracker tracker = periodic_tracker(-kInf, kInf);
   std::vector<double> st(static_cast<size_t>(tracker.state_size()));
   std::vector<Record> records;
   long starts = 0;
-  auto sink = [&](const Record &r) { records.push_back(r); };
+  auto sink = [&](const Record &r) {
+    records.push_back(r);
+  };
   tracker.first_sight(st.data(), 1, 0.095, 0.0, false);
   // 0.095 -> 0.105 (tagged at 0.1), then back and forth across 0.1 many times
   double u = 0.095, t = 0.0;
@@ -262,7 +280,8 @@ TEST(Tracker, OscillationAcrossTheReferencePlaneIsNotAPass) {
   EXPECT_NEAR(records[0].exit_time, t + (0.2 - u) / (0.21 - u), 1e-12);
 }
 
-TEST(Tracker, ExistingParticlesInAPeriodicDomain) {
+TEST(Tracker, ExistingParticlesInAPeriodicDomain)
+{
   const Tracker tagged = periodic_tracker(-kInf, kInf, true);
   std::vector<double> st(static_cast<size_t>(tagged.state_size()));
   const auto records = run_linear(tagged, 0.045, 0.1, 1e-3, 1000, st.data(), true);
@@ -271,7 +290,8 @@ TEST(Tracker, ExistingParticlesInAPeriodicDomain) {
   EXPECT_NEAR(records[0].exit_time, 0.55, 1e-12);
 }
 
-TEST(Tracker, FormatHasOneColumnPerHeaderName) {
+TEST(Tracker, FormatHasOneColumnPerHeaderName)
+{
   const auto zones = test_zones();
   Record r;
   r.id = 12;
@@ -295,18 +315,19 @@ TEST(Tracker, FormatHasOneColumnPerHeaderName) {
   EXPECT_EQ(line.substr(0, 27), "12 0.1 0.35 0.25 lost 0 0 0");
 }
 
-TEST(PlaneCrossing, OpenAndPeriodic) {
+TEST(PlaneCrossing, OpenAndPeriodic)
+{
   using tsg::flow::net_crossings;
   EXPECT_EQ(net_crossings(0.1, 0.2, 0.15, 0), 1);
   EXPECT_EQ(net_crossings(0.2, 0.1, 0.15, 0), -1);
   EXPECT_EQ(net_crossings(0.1, 0.12, 0.15, 0), 0);
-  EXPECT_EQ(net_crossings(0.1, 0.15, 0.15, 0), 1);   // reaching the plane counts once ...
-  EXPECT_EQ(net_crossings(0.15, 0.2, 0.15, 0), 0);   // ... and leaving it downstream not again
+  EXPECT_EQ(net_crossings(0.1, 0.15, 0.15, 0), 1);  // reaching the plane counts once ...
+  EXPECT_EQ(net_crossings(0.15, 0.2, 0.15, 0), 0);  // ... and leaving it downstream not again
   EXPECT_EQ(net_crossings(0.15, 0.1, 0.15, 0), -1);
   // periodic, L = 0.1: every image of the plane
-  EXPECT_EQ(net_crossings(0.05, 0.36, 0.02, 0.1), 3);   // 0.12 0.22 0.32
+  EXPECT_EQ(net_crossings(0.05, 0.36, 0.02, 0.1), 3);  // 0.12 0.22 0.32
   EXPECT_EQ(net_crossings(0.36, 0.05, 0.02, 0.1), -3);
-  EXPECT_EQ(net_crossings(-0.25, -0.15, 0.02, 0.1), 1); // -0.18
+  EXPECT_EQ(net_crossings(-0.25, -0.15, 0.02, 0.1), 1);  // -0.18
 }
 
 }  // namespace

@@ -21,7 +21,8 @@ constexpr double kPi = 3.14159265358979323846;
 double cap(double radius, double h) { return kPi * h * h * (3 * radius - h) / 3; }
 
 // Composite Simpson rule of the cross-section area π (R² - s²) between a and b.
-double simpson(double radius, double a, double b, int n = 2000) {
+double simpson(double radius, double a, double b, int n = 2000)
+{
   const double h = (b - a) / n;
   double sum = 0;
   for (int k = 0; k <= n; ++k) {
@@ -32,18 +33,20 @@ double simpson(double radius, double a, double b, int n = 2000) {
   return sum * h / 3;
 }
 
-TEST(SphereSlab, WholeSphereHalfAndNothing) {
+TEST(SphereSlab, WholeSphereHalfAndNothing)
+{
   const double r = 2e-4;
   EXPECT_DOUBLE_EQ(sphere_slab_volume(0.01, r, 0.0, 1.0), sphere_volume(r));
   EXPECT_DOUBLE_EQ(sphere_slab_volume(0.01, r, 0.01, 1.0), 0.5 * sphere_volume(r));
   EXPECT_DOUBLE_EQ(sphere_slab_volume(0.01, r, -1.0, 0.01), 0.5 * sphere_volume(r));
-  EXPECT_EQ(sphere_slab_volume(0.01, r, 0.0102, 1.0), 0.0);   // touches the slab only
+  EXPECT_EQ(sphere_slab_volume(0.01, r, 0.0102, 1.0), 0.0);  // touches the slab only
   EXPECT_EQ(sphere_slab_volume(0.01, r, 0.02, 0.03), 0.0);
   EXPECT_EQ(sphere_slab_volume(0.01, r, 0.005, 0.005), 0.0);  // empty slab
   EXPECT_NEAR(sphere_volume(1.0), 4.18879020478639, 1e-13);
 }
 
-TEST(SphereSlab, CapsMatchTheTextbookFormula) {
+TEST(SphereSlab, CapsMatchTheTextbookFormula)
+{
   const double r = 1e-3;
   for (double c : {0.0, 0.05, -0.2})
     for (double h : {1e-9, 1e-6, 1e-4, 3e-4, 1e-3, 1.5e-3, 1.999e-3}) {
@@ -52,11 +55,13 @@ TEST(SphereSlab, CapsMatchTheTextbookFormula) {
       const double x_top = c + r - h, x_bottom = c - r + h;
       const double h_top = r - (x_top - c), h_bottom = r + (x_bottom - c);
       EXPECT_NEAR(sphere_slab_volume(c, r, x_top, 1.0) / cap(r, h_top), 1.0, 1e-12) << "c = " << c << ", h = " << h;
-      EXPECT_NEAR(sphere_slab_volume(c, r, -1.0, x_bottom) / cap(r, h_bottom), 1.0, 1e-12) << "c = " << c << ", h = " << h;
+      EXPECT_NEAR(sphere_slab_volume(c, r, -1.0, x_bottom) / cap(r, h_bottom), 1.0, 1e-12)
+          << "c = " << c << ", h = " << h;
     }
 }
 
-TEST(SphereSlab, RandomSlabsMatchNumericalIntegration) {
+TEST(SphereSlab, RandomSlabsMatchNumericalIntegration)
+{
   std::mt19937_64 rng(20240601);
   std::uniform_real_distribution<double> u(-1.5, 1.5);
   const double r = 1.0;
@@ -69,7 +74,8 @@ TEST(SphereSlab, RandomSlabsMatchNumericalIntegration) {
   }
 }
 
-TEST(SphereSlab, AdjacentSlabsAddUpToTheSphere) {
+TEST(SphereSlab, AdjacentSlabsAddUpToTheSphere)
+{
   const double r = 3e-4, c = 0.0123;
   std::vector<double> cuts = {c - r - 1e-5, c - 2.7e-4, c - 1e-4, c, c + 1.3e-7, c + 2.9e-4, c + r + 1e-3};
   double sum = 0, fractions = 0;
@@ -81,7 +87,8 @@ TEST(SphereSlab, AdjacentSlabsAddUpToTheSphere) {
   EXPECT_NEAR(fractions, 1.0, 1e-14);
 }
 
-TEST(SphereSlab, ThinSlabKeepsFullRelativePrecision) {
+TEST(SphereSlab, ThinSlabKeepsFullRelativePrecision)
+{
   // a slab 1e-9 R thick through the centre holds π R² w (1 - O(w²))
   const double r = 2e-4, w = 2e-13;
   EXPECT_NEAR(sphere_slab_volume(0.0, r, -w / 2, w / 2) / (kPi * r * r * w), 1.0, 1e-12);
@@ -91,20 +98,23 @@ TEST(SphereSlab, ThinSlabKeepsFullRelativePrecision) {
   EXPECT_NEAR(sphere_slab_volume(0.0, r, lo, hi) / (cap(r, r - lo) - cap(r, r - hi)), 1.0, 1e-9);
 }
 
-TEST(SphereSlab, FractionIsVolumeOverSphere) {
+TEST(SphereSlab, FractionIsVolumeOverSphere)
+{
   const double r = 7e-4, c = 0.3;
   for (double x0 : {0.2995, 0.2999, 0.3, 0.3004})
     EXPECT_NEAR(sphere_slab_fraction(c, r, x0, x0 + 5e-4), sphere_slab_volume(c, r, x0, x0 + 5e-4) / sphere_volume(r),
                 1e-15);
 }
 
-std::vector<tsg::zones::Zone> three_zones() {
+std::vector<tsg::zones::Zone> three_zones()
+{
   // [0, 0.01) conveying, [0.01, 0.015) kneading, gap, [0.02, 0.03) chopping
   return tsg::zones::parse_zones_text(
       "1 conveying 0 0.01 1e-6\n2 kneading 0.01 0.015 1e-6\n3 chopping 0.02 0.03 1e-6\n", "z");
 }
 
-TEST(ZoneOverlap, SphereCutByAZoneBoundaryCountsInBothZones) {
+TEST(ZoneOverlap, SphereCutByAZoneBoundaryCountsInBothZones)
+{
   const auto zones = three_zones();
   std::vector<double> f(3, 0.0);
   tsg::zones::for_each_overlap(zones, 0.0098, 5e-4, 0.0, 0.0, [&](int z, double fraction) { f[z] += fraction; });
@@ -114,14 +124,16 @@ TEST(ZoneOverlap, SphereCutByAZoneBoundaryCountsInBothZones) {
   EXPECT_EQ(f[2], 0.0);
 }
 
-TEST(ZoneOverlap, SphereInAGapCountsNowhere) {
+TEST(ZoneOverlap, SphereInAGapCountsNowhere)
+{
   const auto zones = three_zones();
   int calls = 0;
   tsg::zones::for_each_overlap(zones, 0.0175, 1e-3, 0.0, 0.0, [&](int, double) { ++calls; });
   EXPECT_EQ(calls, 0);
 }
 
-TEST(ZoneOverlap, PeriodicImageAcrossTheBoxBoundary) {
+TEST(ZoneOverlap, PeriodicImageAcrossTheBoxBoundary)
+{
   // box [0, 0.03): a sphere at x = 0.0297 with R = 5e-4 sticks out by 2e-4 through x = 0.03,
   // which is x = 0 again: that cap belongs to zone 1
   const auto zones = three_zones();

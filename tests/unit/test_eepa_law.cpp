@@ -29,23 +29,27 @@ constexpr double kShearModulus = 1.7e7;
 constexpr double kPoisson = 0.25;
 constexpr double kDensity = 1263;
 
-double effective_modulus() {  // 1/E* = 2 (1 - nu^2)/E, E = 2 G (1 + nu), two equal spheres
+double effective_modulus()
+{  // 1/E* = 2 (1 - nu^2)/E, E = 2 G (1 + nu), two equal spheres
   const double young = 2 * kShearModulus * (1 + kPoisson);
   return young / (2 * (1 - kPoisson * kPoisson));
 }
 double effective_radius() { return kRadius / 2; }
 double reduced_mass() { return 0.5 * 4.0 / 3.0 * kPi * kRadius * kRadius * kRadius * kDensity; }
 
-Parameters seed() {
+Parameters seed()
+{
   const double k1 = 4.0 / 3.0 * effective_modulus() * std::sqrt(effective_radius());
   return {k1, 0.8, 1.5, 20, -1e-3, 15, effective_radius()};
 }
-Parameters f0_only() {
+Parameters f0_only()
+{
   Parameters p = seed();
   p.surface_energy = 0;
   return p;
 }
-Parameters no_adhesion(double plasticity_ratio, double slope_exponent) {
+Parameters no_adhesion(double plasticity_ratio, double slope_exponent)
+{
   Parameters p = seed();
   p.plasticity_ratio = plasticity_ratio;
   p.slope_exponent = slope_exponent;
@@ -55,14 +59,15 @@ Parameters no_adhesion(double plasticity_ratio, double slope_exponent) {
   return p;
 }
 
-double k2_of(const Parameters& p) { return p.k1 / (1 - p.plasticity_ratio); }
+double k2_of(const Parameters &p) { return p.k1 / (1 - p.plasticity_ratio); }
 double pw(double x, double e) { return std::pow(x, e); }
 
 // One contact stepped through overlaps, keeping the history as LIGGGHTS would.
 struct Contact {
   Parameters p;
   History history{};
-  State step(double overlap) {
+  State step(double overlap)
+  {
     const State s = evaluate(p, history, overlap);
     history = s.history;
     return s;
@@ -73,7 +78,8 @@ struct Contact {
 struct HandPullOff {
   double plastic, f_min, delta_min, kadh;
 };
-HandPullOff hand_pull_off(const Parameters& p, double max_overlap) {
+HandPullOff hand_pull_off(const Parameters &p, double max_overlap)
+{
   const double n = p.slope_exponent;
   HandPullOff h{};
   h.plastic = pw(p.plasticity_ratio, 1 / n) * max_overlap;
@@ -87,7 +93,8 @@ HandPullOff hand_pull_off(const Parameters& p, double max_overlap) {
 // Branch values over a load-unload-reload cycle
 // --------------------------------------------------------------------------------------------
 
-TEST(EepaBranches, ConstantPullOffCycleFollowsTheFormulas) {
+TEST(EepaBranches, ConstantPullOffCycleFollowsTheFormulas)
+{
   const Parameters p = f0_only();
   const double n = p.slope_exponent, k1 = p.k1, k2 = k2_of(p), f0 = p.pull_off_force;
   const double lp_root = pw(p.plasticity_ratio, 1 / n);  // delta_p / delta_max on a virgin line
@@ -105,8 +112,7 @@ TEST(EepaBranches, ConstantPullOffCycleFollowsTheFormulas) {
     const double d = 0.95 * d1;
     const State s = c.step(d);
     EXPECT_EQ(s.branch, Branch::Unloading);
-    EXPECT_NEAR(s.force, f0 + k2 * (pw(d, n) - p.plasticity_ratio * pw(d1, n)),
-                1e-12 * k1 * pw(d1, n));
+    EXPECT_NEAR(s.force, f0 + k2 * (pw(d, n) - p.plasticity_ratio * pw(d1, n)), 1e-12 * k1 * pw(d1, n));
   }
   for (double d : {0.5 * d1, 0.3 * d1}) {  // below delta_p = 0.862 d1: only f0 remains
     const State s = c.step(d);
@@ -133,8 +139,7 @@ TEST(EepaBranches, ConstantPullOffCycleFollowsTheFormulas) {
     const double d = 0.38 * d1;
     const State s = c.step(d);
     EXPECT_EQ(s.branch, Branch::Unloading);
-    EXPECT_NEAR(s.force, f0 + k2 * (pw(d, n) - p.plasticity_ratio * pw(0.4 * d1, n)),
-                1e-12 * k1 * pw(d1, n));
+    EXPECT_NEAR(s.force, f0 + k2 * (pw(d, n) - p.plasticity_ratio * pw(0.4 * d1, n)), 1e-12 * k1 * pw(d1, n));
   }
   {  // new maximum
     const double d = 1.5 * d1;
@@ -145,7 +150,8 @@ TEST(EepaBranches, ConstantPullOffCycleFollowsTheFormulas) {
   }
 }
 
-TEST(EepaBranches, SurfaceEnergyCycleFollowsTheFormulas) {
+TEST(EepaBranches, SurfaceEnergyCycleFollowsTheFormulas)
+{
   const Parameters p = seed();
   const double n = p.slope_exponent, X = p.tension_exponent, k1 = p.k1, k2 = k2_of(p);
   const double f0 = p.pull_off_force;
@@ -202,7 +208,8 @@ TEST(EepaBranches, SurfaceEnergyCycleFollowsTheFormulas) {
 // Continuity and rejoining
 // --------------------------------------------------------------------------------------------
 
-TEST(EepaContinuity, ForceIsContinuousAlongLoadUnloadReloadPaths) {
+TEST(EepaContinuity, ForceIsContinuousAlongLoadUnloadReloadPaths)
+{
   const Parameters p = seed();
   const double n = p.slope_exponent, X = p.tension_exponent, k2 = k2_of(p);
   const double d1 = 5e-6;
@@ -224,8 +231,7 @@ TEST(EepaContinuity, ForceIsContinuousAlongLoadUnloadReloadPaths) {
       // Lipschitz bound of the law over this path: k2 line slope at the largest overlap, and the
       // adhesive branch slope X f_min / delta_min at its steepest
       const HandPullOff pull = hand_pull_off(p, std::max(s.history.max_overlap, d1));
-      const double lipschitz =
-          std::max(n * k2 * pw(largest, n - 1), X * pull.f_min / pull.delta_min);
+      const double lipschitz = std::max(n * k2 * pw(largest, n - 1), X * pull.f_min / pull.delta_min);
       const double step = std::fabs(to - from) / steps;
       ASSERT_LE(std::fabs(s.force - last.force), 1.01 * lipschitz * step)
           << "jump at d = " << d << " between branches " << static_cast<int>(last.branch) << " and "
@@ -234,14 +240,14 @@ TEST(EepaContinuity, ForceIsContinuousAlongLoadUnloadReloadPaths) {
       last = s;
     }
   }
-  const std::vector<Branch> expected{Branch::Loading,   Branch::Unloading, Branch::Adhesive,
-                                     Branch::Unloading, Branch::Loading,   Branch::Unloading,
-                                     Branch::Adhesive,  Branch::Unloading, Branch::Loading,
-                                     Branch::Unloading, Branch::Adhesive};
+  const std::vector<Branch> expected{Branch::Loading, Branch::Unloading, Branch::Adhesive, Branch::Unloading,
+                                     Branch::Loading, Branch::Unloading, Branch::Adhesive, Branch::Unloading,
+                                     Branch::Loading, Branch::Unloading, Branch::Adhesive};
   EXPECT_EQ(seen, expected);
 }
 
-TEST(EepaContinuity, OnlyTheConstantPullOffJumpsAtSeparation) {
+TEST(EepaContinuity, OnlyTheConstantPullOffJumpsAtSeparation)
+{
   const Parameters p = seed();
   Contact c{p};
   c.step(5e-6);
@@ -252,7 +258,8 @@ TEST(EepaContinuity, OnlyTheConstantPullOffJumpsAtSeparation) {
   EXPECT_EQ(apart.force, 0);
 }
 
-TEST(EepaRejoin, ReloadRejoinsK1ExactlyAtMaxOverlap) {
+TEST(EepaRejoin, ReloadRejoinsK1ExactlyAtMaxOverlap)
+{
   for (double lambda : {0.2, 0.5, 0.8, 0.99}) {
     Parameters p = f0_only();
     p.plasticity_ratio = lambda;
@@ -268,11 +275,9 @@ TEST(EepaRejoin, ReloadRejoinsK1ExactlyAtMaxOverlap) {
     const State above = evaluate(p, c.history, d1 * (1 + 1e-12));
     EXPECT_EQ(below.branch, Branch::Unloading) << lambda;
     EXPECT_EQ(above.branch, Branch::Loading) << lambda;
-    const double line =
-        p.pull_off_force + k2_of(p) * (pw(d1 * (1 - 1e-12), n) - lambda * pw(d1, n));
+    const double line = p.pull_off_force + k2_of(p) * (pw(d1 * (1 - 1e-12), n) - lambda * pw(d1, n));
     EXPECT_NEAR(below.force, line, 1e-12 * k2_of(p) * pw(d1, n)) << lambda;
-    EXPECT_NEAR(below.force, on_k1, 2 * n * k2_of(p) * pw(d1, n) * 1e-12)
-        << lambda;  // slope x step
+    EXPECT_NEAR(below.force, on_k1, 2 * n * k2_of(p) * pw(d1, n) * 1e-12) << lambda;  // slope x step
     EXPECT_NEAR(at.force, on_k1, 1e-12 * p.k1 * pw(d1, n)) << lambda;
     EXPECT_NEAR(above.force, on_k1, 1e-10 * p.k1 * pw(d1, n)) << lambda;
     EXPECT_DOUBLE_EQ(below.history.max_overlap, d1);
@@ -280,7 +285,8 @@ TEST(EepaRejoin, ReloadRejoinsK1ExactlyAtMaxOverlap) {
   }
 }
 
-TEST(EepaRejoin, ReloadAfterAdhesiveExcursionRejoinsWhereItsLineMeetsK1) {
+TEST(EepaRejoin, ReloadAfterAdhesiveExcursionRejoinsWhereItsLineMeetsK1)
+{
   const Parameters p = seed();
   const double n = p.slope_exponent, X = p.tension_exponent, k2 = k2_of(p), d1 = 5e-6;
   const HandPullOff h = hand_pull_off(p, d1);
@@ -294,10 +300,8 @@ TEST(EepaRejoin, ReloadAfterAdhesiveExcursionRejoinsWhereItsLineMeetsK1) {
   EXPECT_NEAR(c.history.plastic_overlap, pw(plastic_n, 1 / n), 1e-12 * d1);
   const double join = pw(plastic_n / p.plasticity_ratio, 1 / n);
   ASSERT_LT(join, d1);
-  for (int i = 1; i < 1000; ++i)
-    ASSERT_EQ(c.step(turn + (join - turn) * i / 1000.0).branch, Branch::Unloading) << i;
-  EXPECT_NEAR(c.step(join).force, p.pull_off_force + p.k1 * pw(join, n),
-              1e-10 * p.k1 * pw(join, n));
+  for (int i = 1; i < 1000; ++i) ASSERT_EQ(c.step(turn + (join - turn) * i / 1000.0).branch, Branch::Unloading) << i;
+  EXPECT_NEAR(c.step(join).force, p.pull_off_force + p.k1 * pw(join, n), 1e-10 * p.k1 * pw(join, n));
   const State past = c.step(join * (1 + 1e-9));
   EXPECT_EQ(past.branch, Branch::Loading);
   EXPECT_DOUBLE_EQ(past.history.max_overlap, d1);
@@ -307,7 +311,8 @@ TEST(EepaRejoin, ReloadAfterAdhesiveExcursionRejoinsWhereItsLineMeetsK1) {
 // Pull-off
 // --------------------------------------------------------------------------------------------
 
-TEST(EepaPullOff, ConstantPullOffOnlyBelowPlasticOverlap) {
+TEST(EepaPullOff, ConstantPullOffOnlyBelowPlasticOverlap)
+{
   const Parameters p = f0_only();
   const double d1 = 3e-6;
   const double plastic = pw(p.plasticity_ratio, 1 / p.slope_exponent) * d1;
@@ -321,7 +326,8 @@ TEST(EepaPullOff, ConstantPullOffOnlyBelowPlasticOverlap) {
   }
 }
 
-TEST(EepaPullOff, MostNegativeForceIsF0MinusFminAtDeltaMin) {
+TEST(EepaPullOff, MostNegativeForceIsF0MinusFminAtDeltaMin)
+{
   const Parameters p = seed();
   const double d1 = 5e-6;
   const HandPullOff h = hand_pull_off(p, d1);
@@ -336,7 +342,8 @@ TEST(EepaPullOff, MostNegativeForceIsF0MinusFminAtDeltaMin) {
   EXPECT_NEAR(evaluate(p, after_loading, h.delta_min).force, expected, 1e-12 * h.f_min);
 }
 
-TEST(EepaPullOff, CapWhenJkrPullOffExceedsHalfTheLineTension) {
+TEST(EepaPullOff, CapWhenJkrPullOffExceedsHalfTheLineTension)
+{
   Parameters p = seed();
   p.surface_energy = 1e6;
   const double n = p.slope_exponent, k2 = k2_of(p), d1 = 5e-6;
@@ -354,7 +361,8 @@ TEST(EepaPullOff, CapWhenJkrPullOffExceedsHalfTheLineTension) {
   EXPECT_LE(lowest, p.pull_off_force - f_min * (1 - 5e-3));
 }
 
-TEST(EepaPullOff, NoSurfaceEnergyMeansNoAdhesiveBranchBeyondF0) {
+TEST(EepaPullOff, NoSurfaceEnergyMeansNoAdhesiveBranchBeyondF0)
+{
   const Parameters p = f0_only();
   const tsg::eepa::PullOff pull = tsg::eepa::pull_off(p, 2e-6);
   EXPECT_EQ(pull.force, 0);
@@ -365,7 +373,8 @@ TEST(EepaPullOff, NoSurfaceEnergyMeansNoAdhesiveBranchBeyondF0) {
 // Stiffness and Coulomb load
 // --------------------------------------------------------------------------------------------
 
-TEST(EepaStiffness, TangentOfTheActiveBranch) {
+TEST(EepaStiffness, TangentOfTheActiveBranch)
+{
   const Parameters p = seed();
   const double n = p.slope_exponent, k2 = k2_of(p), d1 = 5e-6;
   const HandPullOff h = hand_pull_off(p, d1);
@@ -378,11 +387,11 @@ TEST(EepaStiffness, TangentOfTheActiveBranch) {
   EXPECT_NEAR(unloading.stiffness, n * k2 * pw(0.9 * d1, n - 1), 1e-12 * unloading.stiffness);
   const State adhesive = c.step(0.5 * h.delta_min);
   ASSERT_EQ(adhesive.branch, Branch::Adhesive);
-  EXPECT_NEAR(adhesive.stiffness, n * k2 * pw(0.5 * h.delta_min, n - 1),
-              1e-12 * adhesive.stiffness);
+  EXPECT_NEAR(adhesive.stiffness, n * k2 * pw(0.5 * h.delta_min, n - 1), 1e-12 * adhesive.stiffness);
 }
 
-TEST(EepaCoulombLoad, ThakurFormWithAdhesionCappedAtFmin) {
+TEST(EepaCoulombLoad, ThakurFormWithAdhesionCappedAtFmin)
+{
   const Parameters p = seed();
   const double n = p.slope_exponent, X = p.tension_exponent, k1 = p.k1, k2 = k2_of(p), d1 = 5e-6;
   const HandPullOff h = hand_pull_off(p, d1);
@@ -390,16 +399,14 @@ TEST(EepaCoulombLoad, ThakurFormWithAdhesionCappedAtFmin) {
   // |f_hys + kadh d^X - f0| with kadh d^X capped at f_min for d >= delta_min
   EXPECT_NEAR(c.step(d1).coulomb_load, k1 * pw(d1, n) + h.f_min, 1e-12 * k1 * pw(d1, n));
   const double d_line = 0.98 * h.delta_min / 0.95;  // just above delta_min on the k2 line
-  EXPECT_NEAR(c.step(d_line).coulomb_load, k2 * (pw(d_line, n) - pw(h.plastic, n)) + h.f_min,
-              1e-9 * h.f_min);
+  EXPECT_NEAR(c.step(d_line).coulomb_load, k2 * (pw(d_line, n) - pw(h.plastic, n)) + h.f_min, 1e-9 * h.f_min);
   const double d_adh = 0.95 * h.delta_min;
   const State adhesive = c.step(d_adh);
   ASSERT_EQ(adhesive.branch, Branch::Adhesive);
   EXPECT_EQ(adhesive.coulomb_load, 0);
   const double d_re = 0.96 * h.delta_min;  // reloaded on the new line below delta_min
   const double plastic_n = pw(d_adh, n) + h.kadh / k2 * pw(d_adh, X);
-  EXPECT_NEAR(c.step(d_re).coulomb_load, k2 * (pw(d_re, n) - plastic_n) + h.kadh * pw(d_re, X),
-              1e-9 * h.f_min);
+  EXPECT_NEAR(c.step(d_re).coulomb_load, k2 * (pw(d_re, n) - plastic_n) + h.kadh * pw(d_re, X), 1e-9 * h.f_min);
   // without surface energy the load is the elastic part alone
   Contact plain{f0_only()};
   EXPECT_NEAR(plain.step(d1).coulomb_load, k1 * pw(d1, n), 1e-12 * k1 * pw(d1, n));
@@ -411,7 +418,8 @@ TEST(EepaCoulombLoad, ThakurFormWithAdhesionCappedAtFmin) {
 
 // e^2 = work returned on k2 / work done on k1 =
 //       [1 - (n+1) lambda_p + n lambda_p^(1+1/n)] / (1 - lambda_p)    (docs/eepa-law.md)
-TEST(EepaRestitution, ClosedFormValues) {
+TEST(EepaRestitution, ClosedFormValues)
+{
   for (double lambda : {0.0, 0.1, 0.5, 0.8, 0.99})
     EXPECT_NEAR(tsg::eepa::undamped_restitution(lambda, 1.0), std::sqrt(1 - lambda), 1e-14);
   EXPECT_NEAR(tsg::eepa::undamped_restitution(0.5, 1.5), 0.66704, 5e-6);
@@ -423,7 +431,8 @@ TEST(EepaRestitution, ClosedFormValues) {
 
 // Head-on impact at approach speed v0 integrated with velocity Verlet on the overlap (the scheme
 // LIGGGHTS uses), 20000 steps per delta_max / v0; returns rebound speed / v0.
-double integrated_restitution(const Parameters& p, double speed, double beta) {
+double integrated_restitution(const Parameters &p, double speed, double beta)
+{
   const double m = reduced_mass(), n = p.slope_exponent;
   const double max_overlap = pw((n + 1) * m * speed * speed / (2 * p.k1), 1 / (n + 1));
   const double dt = max_overlap / speed / 20000;
@@ -442,31 +451,31 @@ double integrated_restitution(const Parameters& p, double speed, double beta) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-TEST(EepaRestitution, IntegratedImpactReproducesClosedForm) {
+TEST(EepaRestitution, IntegratedImpactReproducesClosedForm)
+{
   for (double n : {1.0, 1.5}) {
     for (double lambda : {0.2, 0.5, 0.8, 0.99}) {
       const double closed = tsg::eepa::undamped_restitution(lambda, n);
       for (double speed : {0.1, 1.0}) {
         const double measured = integrated_restitution(no_adhesion(lambda, n), speed, 0);
-        std::cout << std::setprecision(7) << "[ measured ] n = " << n << "  lambda_p = " << lambda
-                  << "  v = " << speed << " m/s  e = " << measured << "  closed form " << closed
-                  << "  relative deviation " << std::setprecision(2) << measured / closed - 1
-                  << '\n';
+        std::cout << std::setprecision(7) << "[ measured ] n = " << n << "  lambda_p = " << lambda << "  v = " << speed
+                  << " m/s  e = " << measured << "  closed form " << closed << "  relative deviation "
+                  << std::setprecision(2) << measured / closed - 1 << '\n';
         EXPECT_NEAR(measured, closed, 1e-6 * closed) << "n " << n << " lambda " << lambda;
       }
     }
   }
 }
 
-TEST(EepaDamping, HertzMindlinDashpotRecoversInputRestitution) {
+TEST(EepaDamping, HertzMindlinDashpotRecoversInputRestitution)
+{
   for (double lambda : {0.0, 1e-9}) {
     for (double e : {0.1, 0.5, 0.9}) {
       const double beta = tsg::eepa::damping_ratio_from_restitution(e);
       const double slow = integrated_restitution(no_adhesion(lambda, 1.5), 0.1, beta);
       const double fast = integrated_restitution(no_adhesion(lambda, 1.5), 1.0, beta);
-      std::cout << std::setprecision(7) << "[ measured ] damped  lambda_p = " << lambda
-                << "  input e = " << e << "  e(0.1 m/s) = " << slow << "  e(1 m/s) = " << fast
-                << '\n';
+      std::cout << std::setprecision(7) << "[ measured ] damped  lambda_p = " << lambda << "  input e = " << e
+                << "  e(0.1 m/s) = " << slow << "  e(1 m/s) = " << fast << '\n';
       EXPECT_NEAR(slow, e, 5e-5);  // the dashpot formula itself is good to ~4e-6
       EXPECT_NEAR(fast, e, 5e-5);
       EXPECT_NEAR(slow, fast, 1e-6);  // speed-independent
@@ -474,7 +483,8 @@ TEST(EepaDamping, HertzMindlinDashpotRecoversInputRestitution) {
   }
 }
 
-TEST(EepaDamping, RatioAndForceFormulas) {
+TEST(EepaDamping, RatioAndForceFormulas)
+{
   using tsg::eepa::damping_force;
   using tsg::eepa::damping_ratio_from_restitution;
   EXPECT_EQ(damping_ratio_from_restitution(1.0), 0.0);
@@ -490,7 +500,7 @@ TEST(EepaDamping, RatioAndForceFormulas) {
     EXPECT_THROW(damping_ratio_from_restitution(bad), std::invalid_argument) << bad;
   try {
     damping_ratio_from_restitution(1.5);
-  } catch (const std::invalid_argument& error) {
+  } catch (const std::invalid_argument &error) {
     EXPECT_STREQ(error.what(), "restitution = 1.5 is outside the allowed range (0, 1]");
   }
 }
@@ -499,7 +509,8 @@ TEST(EepaDamping, RatioAndForceFormulas) {
 // Separation, extremes, validation
 // --------------------------------------------------------------------------------------------
 
-TEST(EepaSeparation, NonPositiveOverlapIsSeparatedAndResetsHistory) {
+TEST(EepaSeparation, NonPositiveOverlapIsSeparatedAndResetsHistory)
+{
   const Parameters p = seed();
   const History loaded{3e-6, 2e-6};
   for (double d : {0.0, -1e-9, std::nan("")}) {
@@ -513,7 +524,8 @@ TEST(EepaSeparation, NonPositiveOverlapIsSeparatedAndResetsHistory) {
   }
 }
 
-TEST(EepaExtremes, OutputsFiniteAndBoundedForExtremeInputs) {
+TEST(EepaExtremes, OutputsFiniteAndBoundedForExtremeInputs)
+{
   const double r = effective_radius();
   // overlaps from 1e-15 m to R*/2 and back, twice, on a log grid
   std::vector<double> path;
@@ -544,11 +556,9 @@ TEST(EepaExtremes, OutputsFiniteAndBoundedForExtremeInputs) {
             for (double d : path) {
               const State s = c.step(d);
               reached = std::max(reached, d);
-              ASSERT_TRUE(std::isfinite(s.force) && std::isfinite(s.stiffness) &&
-                          std::isfinite(s.coulomb_load) && std::isfinite(s.history.max_overlap) &&
-                          std::isfinite(s.history.plastic_overlap))
-                  << "lambda " << lambda << " n " << n << " X " << X << " gamma " << gamma << " d "
-                  << d;
+              ASSERT_TRUE(std::isfinite(s.force) && std::isfinite(s.stiffness) && std::isfinite(s.coulomb_load) &&
+                          std::isfinite(s.history.max_overlap) && std::isfinite(s.history.plastic_overlap))
+                  << "lambda " << lambda << " n " << n << " X " << X << " gamma " << gamma << " d " << d;
               ASSERT_GE(s.stiffness, 0);
               ASSERT_GE(s.coulomb_load, 0);
               // bounded: f0 - k2 delta_p^n / 2 <= f <= f0 + k1 delta_max^n
@@ -563,7 +573,8 @@ TEST(EepaExtremes, OutputsFiniteAndBoundedForExtremeInputs) {
   EXPECT_GT(checked, 100000);
 }
 
-TEST(EepaValidate, AcceptsSeedParameters) {
+TEST(EepaValidate, AcceptsSeedParameters)
+{
   EXPECT_NO_THROW(tsg::eepa::validate(seed()));
   Parameters p = seed();
   p.plasticity_ratio = 0;
@@ -574,44 +585,36 @@ TEST(EepaValidate, AcceptsSeedParameters) {
   EXPECT_NO_THROW(tsg::eepa::validate(p));  // closed ends of every range
 }
 
-TEST(EepaValidate, RejectsOutOfRangeWithNameValueAndRange) {
+TEST(EepaValidate, RejectsOutOfRangeWithNameValueAndRange)
+{
   struct Case {
     double Parameters::*field;
     double value;
-    const char* message;
+    const char *message;
   };
   const std::vector<Case> cases{
-      {&Parameters::plasticity_ratio, 1.2,
-       "plasticity_ratio = 1.2 is outside the allowed range [0, 1)"},
-      {&Parameters::plasticity_ratio, 1.0,
-       "plasticity_ratio = 1 is outside the allowed range [0, 1)"},
-      {&Parameters::plasticity_ratio, -0.1,
-       "plasticity_ratio = -0.1 is outside the allowed range [0, 1)"},
-      {&Parameters::slope_exponent, 0.5,
-       "slope_exponent = 0.5 is outside the allowed range [1, inf)"},
-      {&Parameters::tension_exponent, 0.9,
-       "tension_exponent = 0.9 is outside the allowed range [1, inf)"},
-      {&Parameters::surface_energy, -2.0,
-       "surface_energy = -2 is outside the allowed range [0, inf)"},
-      {&Parameters::pull_off_force, 0.001,
-       "pull_off_force = 0.001 is outside the allowed range (-inf, 0]"},
-      {&Parameters::effective_radius, 0.0,
-       "effective_radius = 0 is outside the allowed range (0, inf)"},
-      {&Parameters::effective_radius, -1e-4,
-       "effective_radius = -1e-4 is outside the allowed range (0, inf)"},
+      {&Parameters::plasticity_ratio, 1.2, "plasticity_ratio = 1.2 is outside the allowed range [0, 1)"},
+      {&Parameters::plasticity_ratio, 1.0, "plasticity_ratio = 1 is outside the allowed range [0, 1)"},
+      {&Parameters::plasticity_ratio, -0.1, "plasticity_ratio = -0.1 is outside the allowed range [0, 1)"},
+      {&Parameters::slope_exponent, 0.5, "slope_exponent = 0.5 is outside the allowed range [1, inf)"},
+      {&Parameters::tension_exponent, 0.9, "tension_exponent = 0.9 is outside the allowed range [1, inf)"},
+      {&Parameters::surface_energy, -2.0, "surface_energy = -2 is outside the allowed range [0, inf)"},
+      {&Parameters::pull_off_force, 0.001, "pull_off_force = 0.001 is outside the allowed range (-inf, 0]"},
+      {&Parameters::effective_radius, 0.0, "effective_radius = 0 is outside the allowed range (0, inf)"},
+      {&Parameters::effective_radius, -1e-4, "effective_radius = -1e-4 is outside the allowed range (0, inf)"},
       {&Parameters::k1, 0.0, "k1 = 0 is outside the allowed range (0, inf)"},
       {&Parameters::k1, -3.5e5, "k1 = -350000 is outside the allowed range (0, inf)"},
       {&Parameters::k1, std::nan(""), "k1 = nan is outside the allowed range (0, inf)"},
       {&Parameters::surface_energy, std::numeric_limits<double>::infinity(),
        "surface_energy = inf is outside the allowed range [0, inf)"},
   };
-  for (const Case& c : cases) {
+  for (const Case &c : cases) {
     Parameters p = seed();
     p.*c.field = c.value;
     try {
       tsg::eepa::validate(p);
       ADD_FAILURE() << "accepted: " << c.message;
-    } catch (const std::invalid_argument& error) {
+    } catch (const std::invalid_argument &error) {
       EXPECT_STREQ(error.what(), c.message);
     }
   }

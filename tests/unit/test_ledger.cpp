@@ -14,13 +14,15 @@ using tsg::residence::Ledger;
 
 const double kState[3] = {7.0, 1.5, 2.5};
 
-Ledger holding(std::vector<long long> ids) {
+Ledger holding(std::vector<long long> ids)
+{
   Ledger ledger;
   for (long long id : ids) ledger.remember(id, kState, 3);
   return ledger;
 }
 
-TEST(Ledger, ADeletedParticleIsTakenWithItsLastState) {
+TEST(Ledger, ADeletedParticleIsTakenWithItsLastState)
+{
   Ledger ledger = holding({3, 1, 2});
   double newer[3] = {7.0, 4.0, 5.0};
   ledger.remember(2, newer, 3);  // refreshed after a zone-edge crossing
@@ -34,14 +36,15 @@ TEST(Ledger, ADeletedParticleIsTakenWithItsLastState) {
   EXPECT_TRUE(ledger.take_deleted({1}).empty());
 }
 
-TEST(Ledger, AMigratedParticleIsNeitherDeletedNorLost) {
+TEST(Ledger, AMigratedParticleIsNeitherDeletedNorLost)
+{
   Ledger sender = holding({5, 6});
   Ledger receiver;
   sender.packed(5);
   receiver.arrived();
   receiver.remember(5, kState, 3);
   EXPECT_EQ(sender.resident(), 1);
-  EXPECT_TRUE(sender.take_deleted({6}).empty());  // 5 is in transit, not deleted
+  EXPECT_TRUE(sender.take_deleted({6}).empty());                                  // 5 is in transit, not deleted
   EXPECT_EQ(sender.packs_minus_arrivals() + receiver.packs_minus_arrivals(), 0);  // nothing lost
   sender.end_exchange();
   receiver.end_exchange();
@@ -49,7 +52,8 @@ TEST(Ledger, AMigratedParticleIsNeitherDeletedNorLost) {
   EXPECT_TRUE(receiver.holds(5));
 }
 
-TEST(Ledger, ALostParticleIsClaimedByTheRankThatPackedIt) {
+TEST(Ledger, ALostParticleIsClaimedByTheRankThatPackedIt)
+{
   // rank 0 packs 8 (arrives on rank 1) and 9 (arrives nowhere: it left the box)
   Ledger rank0 = holding({8, 9});
   Ledger rank1;
@@ -72,7 +76,8 @@ TEST(Ledger, ALostParticleIsClaimedByTheRankThatPackedIt) {
   EXPECT_EQ(rank0.packs_minus_arrivals(), 0);
 }
 
-TEST(Ledger, APacketThatComesBackIsResidentAgain) {
+TEST(Ledger, APacketThatComesBackIsResidentAgain)
+{
   Ledger ledger = holding({4});
   ledger.packed(4);
   EXPECT_FALSE(ledger.holds(4));
@@ -83,9 +88,10 @@ TEST(Ledger, APacketThatComesBackIsResidentAgain) {
   EXPECT_EQ(ledger.packs_minus_arrivals(), 0);
 }
 
-TEST(Ledger, ForgettingEndsTheEntry) {
+TEST(Ledger, ForgettingEndsTheEntry)
+{
   Ledger ledger = holding({1, 2});
-  ledger.forget(1);  // its residence ended with a record (outlet, pass)
+  ledger.forget(1);   // its residence ended with a record (outlet, pass)
   ledger.forget(42);  // unknown ids are ignored
   EXPECT_EQ(ledger.resident(), 1);
   EXPECT_TRUE(ledger.take_deleted({2}).empty());

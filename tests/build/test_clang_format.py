@@ -1,0 +1,41 @@
+"""Our C++ follows .clang-format: `clang-format --dry-run --Werror` over every C++ file of
+src-liggghts-eepa/ and tests/unit/ fails on the first file that would change."""
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+SOURCE = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+# Being reworked on another branch; formatted when that work is merged, then removed from this list.
+NOT_YET_FORMATTED = {
+    "src-liggghts-eepa/fix_wall_gran_corotating.cpp",
+    "src-liggghts-eepa/fix_wall_gran_corotating.h",
+    "src-liggghts-eepa/physics/rigid_rotation.h",
+    "src-liggghts-eepa/physics/triangle_contact.h",
+    "src-liggghts-eepa/physics/triangle_lookup.h",
+    "tests/unit/test_corotating_geometry.cpp",
+}
+
+
+def our_cxx_files() -> list[Path]:
+    files = [p for folder in ("src-liggghts-eepa", "tests/unit") for p in sorted((SOURCE / folder).rglob("*"))
+             if p.suffix in {".h", ".cpp"}]
+    return [p for p in files if p.relative_to(SOURCE).as_posix() not in NOT_YET_FORMATTED]
+
+
+def test_files_are_found():
+    names = {p.relative_to(SOURCE).as_posix() for p in our_cxx_files()}
+    assert "src-liggghts-eepa/normal_model_eepa.h" in names
+    assert "src-liggghts-eepa/physics/eepa_law.h" in names
+    assert "tests/unit/test_eepa_law.cpp" in names
+
+
+def test_clang_format_finds_nothing():
+    clang_format = shutil.which("clang-format")
+    if clang_format is None:
+        pytest.fail("clang-format is not installed (apt-get install clang-format)")
+    proc = subprocess.run([clang_format, "--dry-run", "--Werror", f"--style=file:{SOURCE / '.clang-format'}",
+                           *map(str, our_cxx_files())], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-8000:]
