@@ -4,7 +4,7 @@
 // includes that declare the variables and before the first run; the error lists the declared
 // names closest to each unclaimed one.
 #ifdef COMMAND_CLASS
-CommandStyle(check_variables,CheckVariablesCommand)
+CommandStyle(check_variables, CheckVariablesCommand)
 #else
 #ifndef TSG_COMMAND_CHECK_VARIABLES_H
 #define TSG_COMMAND_CHECK_VARIABLES_H
