@@ -198,13 +198,19 @@ def read_zones(path: Path | str) -> Zones:
     return Zones(tuple(kinds), table[:, 1], table[:, 2], table[:, 3])
 
 
-def read_residence(path: Path | str) -> ResidenceRecords:
-    path = Path(path)
+def _records(path: Path, magic: str) -> tuple[str, list[str], list[str], list[str]]:
+    """A records file's complete lines, read issues, header lines and column names; refused without
+    its magic header line."""
     text, issues = _read_complete_lines(path)
     header = _header(text)
-    if RESIDENCE_MAGIC not in header:
-        raise AnalysisInputError(f"{path}: missing the '{RESIDENCE_MAGIC}' header line")
-    columns = _columns_line(path, header)
+    if magic not in header:
+        raise AnalysisInputError(f"{path}: missing the '{magic}' header line")
+    return text, issues, header, _columns_line(path, header)
+
+
+def read_residence(path: Path | str) -> ResidenceRecords:
+    path = Path(path)
+    text, issues, header, columns = _records(path, RESIDENCE_MAGIC)
     zone_columns = columns[len(RESIDENCE_FIXED_COLUMNS):]
     expected_zones = [f"time_zone_{i}" for i in range(1, len(zone_columns) + 1)]
     if tuple(columns[:len(RESIDENCE_FIXED_COLUMNS)]) != RESIDENCE_FIXED_COLUMNS or zone_columns != expected_zones:
@@ -293,11 +299,7 @@ def _is_number(word: str) -> bool:
 
 def read_massflow(path: Path | str) -> MassFlowRecord:
     path = Path(path)
-    text, issues = _read_complete_lines(path)
-    header = _header(text)
-    if MASSFLOW_MAGIC not in header:
-        raise AnalysisInputError(f"{path}: missing the '{MASSFLOW_MAGIC}' header line")
-    columns = _columns_line(path, header)
+    text, issues, header, columns = _records(path, MASSFLOW_MAGIC)
     sensors = columns[2:]
     if columns[:2] != ["step", "time"] or not sensors or sensors != [f"sensor_{i}" for i in range(1, len(sensors) + 1)]:
         raise AnalysisInputError(f"{path}: columns must be 'step time sensor_1 ... sensor_K', got {' '.join(columns)}")
