@@ -13,11 +13,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tsg_meshes.machine import BORE_RADIUS, CENTRE_DISTANCE  # the machine geometry's one source
+
 from .dumps import ParticleFrame
 from .run_files import AnalysisInputError
 
-CENTRE_DISTANCE = 19.31e-3  # m; screw axes at y = ±a/2, z = 0 (zones.txt header)
-BORE_RADIUS = 12.5e-3  # m
 DEFAULT_BIN_SIZE = 0.5e-3  # m: ≈ 1.25 reference particle diameters (400 μm)
 
 

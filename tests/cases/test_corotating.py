@@ -24,10 +24,11 @@ import numpy as np
 import pytest
 
 from tsg_harness import run_lmp
+from tsg_meshes.machine import CENTRE_DISTANCE
 
 INPUTS = Path(__file__).parent / "inputs"
 SOURCE = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).parents[2]))
-HALF_CENTRE = 0.019310 / 2
+HALF_CENTRE = CENTRE_DISTANCE / 2
 BORE = 0.0125
 PERIODIC_LENGTH = 0.0958333333333333  # consigma1-periodic: C7/6 K6x60R C7/6
 RELATIVE = 1e-9
