@@ -27,10 +27,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from tsg_cases.launcher import lmp_executable, mpi_command
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "tests" / "cases"), str(ROOT / "analysis")]
-from tsg_harness import lmp_executable, mpi_command  # noqa: E402
 
 INPUTS = ROOT / "tests" / "cases" / "inputs"
 PERIODIC_LENGTH = 0.0958333333333333
@@ -64,8 +63,8 @@ SCREWS_ONLY = """# benchmark: the screws through fix wall/gran/corotating, the b
 # the baseline), so that the difference is the screws' alone
 fix walls all wall/gran/corotating model hertz tangential history rolling_friction cdt &
     mesh n_meshes 3 meshes screw1 screw2 barrel &
-    corotate screw1 origin 0 -${half_centre} 0 axis 1 0 0 period ${screw_period} &
-    corotate screw2 origin 0  ${half_centre} 0 axis 1 0 0 period ${screw_period}
+    corotate screw1 origin 0 ${axis1_y} ${axis_z} axis 1 0 0 period ${turn_period} &
+    corotate screw2 origin 0 ${axis2_y} ${axis_z} axis 1 0 0 period ${turn_period}
 variable walls_dump_screws equal 1
 """
 
@@ -82,7 +81,7 @@ def case_copy(work: Path) -> Path:
 def fill(work: Path, nprocs: int) -> tuple[Path, dict[str, str]]:
     """The demo fill and the variables run_case.py passes to lmp (from its log)."""
     out = work / "fill"
-    subprocess.run([sys.executable, str(ROOT / "cases/run_case.py"), "periodic", "--scale", "demo", "--np", str(nprocs),
+    subprocess.run([sys.executable, "-m", "tsg_cases.run_case", "periodic", "--scale", "demo", "--np", str(nprocs),
                     "--out", str(out), "-v", "t_startup", "1e-5", "-v", "t_sample", "1e-5"],
                    check=True, capture_output=True, text=True)
     return out / "fill.in", {"d_mean": "0.001", "dt_fraction": "0.2", "domain_length": "0.0958333333333333"}
@@ -118,7 +117,7 @@ def case_runs(work: Path, nprocs: int, t_run: float) -> dict[str, float]:
     result = {}
     for drive in ("stock", "corotating"):
         out = work / f"case-{drive}"
-        subprocess.run([sys.executable, str(ROOT / "cases/run_case.py"), "periodic", "--scale", "demo", "--np", str(nprocs),
+        subprocess.run([sys.executable, "-m", "tsg_cases.run_case", "periodic", "--scale", "demo", "--np", str(nprocs),
                         "--out", str(out), "-v", "screw_drive", drive, "-v", "t_startup", str(t_run),
                         "-v", "t_sample", str(t_run)], check=True, capture_output=True, text=True)
         log = (out / "log.lammps").read_text()

@@ -27,9 +27,9 @@ import tempfile
 import time
 from pathlib import Path
 
+from tsg_cases.launcher import lmp_executable
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "analysis")]
-from tsg_harness import lmp_executable  # noqa: E402
 
 RELAXED = {"guard_max_speed": 1e9, "guard_max_pair_overlap": 1e9, "guard_max_wall_overlap": 1e9}
 
