@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .cross_section import DEFAULT_BIN_SIZE, SolidFractionMap
-from .massflow import STEADY_TOLERANCE, PlaneFlows, StepClock, SteadyState
+from .massflow import STEADY_TOLERANCE, PlaneFlows, SteadyState, StepClock
 from .parameters import RunParameters
 from .profiles import ElementProfile
 from .rtd import RTDComparison, RTDStatistics

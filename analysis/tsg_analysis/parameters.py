@@ -65,7 +65,8 @@ def _from_json(path: Path) -> RunParameters:
     if not isinstance(variables, dict):
         raise AnalysisInputError(f"{path}: variables must be an object name -> value, got {type(variables).__name__}")
     seed = data.get("seed")
-    return RunParameters(*(_positive(str(path), name, data[name]) for name in REQUIRED), source=str(path),
+    rpm, rho_p, d_mean = (_positive(str(path), name, data[name]) for name in REQUIRED)
+    return RunParameters(rpm, rho_p, d_mean, source=str(path),
                          variables={str(k): str(v) for k, v in variables.items()}, case=data.get("case"),
                          scale=data.get("scale"), seed=int(seed) if isinstance(seed, (int, float)) else None,
                          zones_file=data.get("zones_file"), git_commit=data.get("git_commit"))
@@ -82,7 +83,8 @@ def _from_log(path: Path) -> RunParameters:
     if missing:
         raise AnalysisInputError(f"{path}: the TSG-PARAMETERS line lacks {', '.join(missing)}")
     source = f"{path} (TSG-PARAMETERS)"
-    return RunParameters(*(_positive(source, name, values[name]) for name in REQUIRED), source=source,
+    rpm, rho_p, d_mean = (_positive(source, name, values[name]) for name in REQUIRED)
+    return RunParameters(rpm, rho_p, d_mean, source=source,
                          variables=values)
 
 

@@ -240,7 +240,7 @@ def profile_markdown(run: RunAnalysis) -> str:
 def _cell(e: Estimate) -> str:
     if not e.resolved:
         return "window too short" + (f" ({format_interval(e.mean, e.half_width)})" if math.isfinite(e.half_width) else "")
-    return e.text() 
+    return e.text()
 
 
 def dumps_markdown(run: RunAnalysis, with_figures: bool = True) -> str:

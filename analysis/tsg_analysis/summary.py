@@ -19,15 +19,12 @@ from pathlib import Path
 import numpy as np
 
 from .massflow import sensor_flows, step_clock
-from .model import (AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION,
-                    UNITS)
+from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS
 from .parameters import RunParameters, read_run_parameters
 from .profiles import domain_throughput, element_estimates, holdup_residence
 from .rtd import mean_residence
-from .run_files import (RTD_EXIT_REASONS, AnalysisInputError, read_element_statistics, read_massflow, read_residence,
-                        read_zones)
+from .run_files import RTD_EXIT_REASONS, AnalysisInputError, read_element_statistics, read_massflow, read_residence, read_zones
 from .uncertainty import Difference, Estimate, combine_replicas, difference
-
 
 
 @dataclass(frozen=True)
