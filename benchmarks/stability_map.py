@@ -79,8 +79,7 @@ hard_particles yes                  # the stiff and soft cases' moduli are outsi
 soft_particles yes                  # SI sanity limits (5e6 <= E <= 1e9 Pa)
 region        box block 0 {length!r} -{box!r} {box!r} -{box!r} {box!r} units box
 create_box    2 box
-neighbor      $(0.2*v_d_mean) bin
-neigh_modify  delay 0
+variable      skin index $(0.2*v_d_mean)   # neighbour skin, m (models.in sets neighbor)
 include ${{case_dir}}/include/materials.in
 include ${{case_dir}}/include/models.in
 fix barrel all mesh/surface file barrel.stl type 2
