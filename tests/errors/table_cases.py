@@ -77,7 +77,7 @@ CASES: list[BadInput] = [
     BadInput("cases.run.lmp-missing", ("lmp executable not found", "TSG_LMP=/nonexistent/lmp"),
              why="a wrong TSG_LMP is found before the 12 s fill, not after it",
              command=runner("periodic"), env={"TSG_LMP": "/nonexistent/lmp"}),
-    BadInput("cases.run.lmp-not-executable", ("not executable", f"TSG_LMP={ROOT / 'README.md'}"),
+    BadInput("cases.run.lmp-not-executable", ("not executable", "TSG_LMP={root}/README.md"),
              why="an lmp that cannot be started", command=runner("periodic"), env={"TSG_LMP": str(ROOT / "README.md")}),
     BadInput("cases.run.mpirun-missing", ("mpirun not found", "1 rank"),
              why="several ranks need mpirun", command=runner("periodic", "--np", "2"),
