@@ -75,8 +75,7 @@ FixWallGranCorotating::FixWallGranCorotating(LAMMPS *lmp, int narg, char **arg)
   load_all_.assign(kOutputsPerScrew * screws_.size(), 0.0);
 
   history_size_ = dnum();
-  anchor_step_ = update->ntimestep;
-  anchor_dt_ = update->dt;
+  clock_.load(0.0, static_cast<double>(update->ntimestep));  // reads 0 at this step; a restart file overrides
 
   vector_flag = 1;
   size_vector = kOutputsPerScrew * static_cast<int>(screws_.size());
@@ -232,17 +231,6 @@ void FixWallGranCorotating::init()
            "(the screw's force and torque are this fix's output vector)");
   }
   if (cwl_) fail("compute wall/gran/local does not see corotating meshes");
-  // a new time step: re-anchor the clock so that the angle stays the integral of ω dt
-  if (update->dt != anchor_dt_) {
-    anchor_time_ += static_cast<double>(update->ntimestep - anchor_step_) * anchor_dt_;
-    anchor_step_ = update->ntimestep;
-    anchor_dt_ = update->dt;
-  }
-}
-
-double FixWallGranCorotating::elapsed_time() const
-{
-  return anchor_time_ + static_cast<double>(update->ntimestep - anchor_step_) * anchor_dt_;
 }
 
 // Every rank keeps the whole screw: a particle's lab position says nothing about where the part of
@@ -345,6 +333,7 @@ void FixWallGranCorotating::setup(int vflag)
     }
     triangles_gathered_ = true;
   }
+  clock_.resume(update);
   FixWallGran::setup(vflag);
   if (dump_every_ > 0 && update->ntimestep % dump_every_ == 0) write_screw_dumps();
 }
@@ -363,7 +352,7 @@ void FixWallGranCorotating::end_of_step() { write_screw_dumps(); }
 void FixWallGranCorotating::write_screw_dumps()
 {
   if (comm->me != 0) return;
-  const double time = elapsed_time();
+  const double time = clock_.now(update);
   for (const Screw &s : screws_) {
     const std::string path =
         dump_prefix_ + "_" + s.mesh_id + "_" + std::to_string(static_cast<long long>(update->ntimestep)) + ".vtk";
@@ -558,7 +547,7 @@ void FixWallGranCorotating::corotating_contacts()
   const double *radius = atom->radius;
   const int *mask = atom->mask;
   const double touch_factor = neighbor->contactDistanceFactor - 1.0;  // contacts without overlap (cohesion)
-  const double time = elapsed_time();
+  const double time = clock_.now(update);
   const size_t nscrews = screws_.size();
   const size_t stride = built_stride();
 
@@ -861,8 +850,8 @@ int FixWallGranCorotating::maxsize_restart() { return 2 + max_contacts_ * (1 + h
 // global: the elapsed time (the screws' phase) and the history layout
 void FixWallGranCorotating::write_restart(FILE *fp)
 {
-  double list[4] = {elapsed_time(), static_cast<double>(update->ntimestep), static_cast<double>(history_size_),
-                    static_cast<double>(screws_.size())};
+  double list[4] = {0.0, 0.0, static_cast<double>(history_size_), static_cast<double>(screws_.size())};
+  clock_.save(update, &list[0], &list[1]);
   if (comm->me == 0) {
     int size = static_cast<int>(sizeof list);
     fwrite(&size, sizeof(int), 1, fp);
@@ -877,8 +866,7 @@ void FixWallGranCorotating::restart(char *buf)
     fail("the restart file was written with " + number(list[3]) + " corotating meshes and " + number(list[2]) +
          " history values per contact; this input has " + std::to_string(screws_.size()) + " and " +
          std::to_string(history_size_));
-  anchor_time_ = list[0];
-  anchor_step_ = static_cast<bigint>(list[1]);
+  clock_.load(list[0], list[1]);
 }
 
 double FixWallGranCorotating::memory_usage()

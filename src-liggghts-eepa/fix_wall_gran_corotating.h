@@ -37,6 +37,7 @@ FixStyle(wall/gran/corotating,FixWallGranCorotating)
 #include "fix_wall_gran.h"
 #include "neighbor.h"
 
+#include "restart_clock.h"
 #include "rigid_rotation.h"
 #include "triangle_contact.h"
 #include "triangle_lookup.h"
@@ -110,7 +111,6 @@ private:
   [[noreturn]] void fail(const std::string &message);
   void gather_triangles(Screw &screw);
   void check_shares_axis(const Screw &screw);
-  double elapsed_time() const;
   void corotating_contacts();
   void build_candidates(int i, const std::vector<tsg::rotation::Mat3> &poses);
   void follow_lists_to_new_indices(const std::vector<tsg::rotation::Mat3> &poses);
@@ -136,10 +136,9 @@ private:
   std::vector<class FixMeshSurface *> all_meshes_, static_meshes_;
   bool triangles_gathered_ = false;
 
-  // the angle comes from the time elapsed since the fix was created: anchor + (step − anchor_step) dt
-  double anchor_time_ = 0.0;
-  bigint anchor_step_ = 0;
-  double anchor_dt_ = 0.0;
+  // the angle comes from the time elapsed since the fix was created (as fix move/mesh's), kept
+  // across a restart
+  tsg::measure::RestartClock clock_;
 
   // contact history with screw triangles, per particle: up to max_contacts_ slots of
   // (key, dnum values); keys < 0 are free slots

@@ -19,6 +19,7 @@ public:
     *time = now(update);
     *step = static_cast<double>(update->ntimestep);
   }
+  // what restart() reads back; load(0, step now) also starts a clock that reads 0 at this step
   void load(double time, double step)
   {
     restart_time_ = time;
