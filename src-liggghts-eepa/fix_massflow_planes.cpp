@@ -12,7 +12,6 @@
 #include "domain.h"
 #include "error.h"
 #include "group.h"
-#include "memory.h"
 #include "neighbor.h"
 #include "output.h"
 #include "update.h"
@@ -25,27 +24,24 @@ using namespace LAMMPS_NS;
 using tsg::measure::fail;
 using tsg::measure::number;
 
-FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg)
-    : Fix(lmp, narg, arg), window_(0), append_(tsg::measure::Append::automatic), continuing_(false),
-      file_opened_(false), fp_(nullptr), bounds_(nullptr), side_(nullptr), nside_(0), window_time_(0)
+FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg) : FixMeasureBase(lmp, narg, arg)
 {
-  const std::string who = std::string("fix ") + id + " massflow/planes";
   bool have_planes = false;
   for (int iarg = 3; iarg < narg;) {
     const std::string key = arg[iarg];
     if (key == "planes") {
       long k = 0;
       if (iarg + 1 >= narg || !tsg::measure::parse_integer(arg[iarg + 1], 1, 1000, k))
-        fail(lmp, who,
+        fail(lmp, who_,
              std::string("'planes K X1 ... XK' needs a sensor count K between 1 and 1000, got '") +
                  (iarg + 1 < narg ? arg[iarg + 1] : "") + "'");
       if (iarg + 1 + k >= narg)
-        fail(lmp, who, std::string("'planes ") + arg[iarg + 1] + "' needs " + std::to_string(k) + " positions");
+        fail(lmp, who_, std::string("'planes ") + arg[iarg + 1] + "' needs " + std::to_string(k) + " positions");
       for (long j = 0; j < k; ++j) {
         const char *text = arg[iarg + 2 + j];
         double x = 0;
         if (!tsg::measure::parse_real(text, x))
-          fail(lmp, who,
+          fail(lmp, who_,
                "plane " + std::to_string(j + 1) + " position '" + text + "' is not a finite number (m); 'planes " +
                    std::to_string(k) + "' needs " + std::to_string(k) + " positions");
         planes_.push_back(x);
@@ -55,50 +51,38 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg)
     } else if (key == "window") {
       long n = 0;
       if (iarg + 1 >= narg || !tsg::measure::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
-        fail(lmp, who,
+        fail(lmp, who_,
              std::string("window = '") + (iarg + 1 < narg ? arg[iarg + 1] : "") +
                  "' must be a positive number of steps");
       window_ = static_cast<int>(n);
       iarg += 2;
     } else if (key == "file") {
-      if (iarg + 1 >= narg) fail(lmp, who, "'file' needs a file name");
+      if (iarg + 1 >= narg) fail(lmp, who_, "'file' needs a file name");
       path_ = arg[iarg + 1];
       iarg += 2;
     } else if (key == "append") {
-      if (iarg + 1 >= narg) fail(lmp, who, "append needs 'yes' or 'no'");
-      append_ = tsg::measure::parse_append(lmp, who, arg[iarg + 1]);
+      if (iarg + 1 >= narg) fail(lmp, who_, "append needs 'yes' or 'no'");
+      append_ = tsg::measure::parse_append(lmp, who_, arg[iarg + 1]);
       iarg += 2;
     } else {
-      fail(lmp, who, "unknown keyword '" + key + "' (allowed: planes, window, file, append)");
+      fail(lmp, who_, "unknown keyword '" + key + "' (allowed: planes, window, file, append)");
     }
   }
-  if (!have_planes) fail(lmp, who, "missing 'planes K X1 ... XK'");
-  if (window_ == 0) fail(lmp, who, "missing 'window N' (averaging window, steps)");
-  if (!path_.empty()) tsg::measure::claim_output(lmp, who, "mass-flow file", path_);
+  if (!have_planes) fail(lmp, who_, "missing 'planes K X1 ... XK'");
+  if (window_ == 0) fail(lmp, who_, "missing 'window N' (averaging window, steps)");
+  if (!path_.empty()) tsg::measure::claim_output(lmp, who_, "mass-flow file", path_);
 
-  nevery = 1;
-  vector_flag = 1;
   size_vector = static_cast<int>(planes_.size());
-  global_freq = 1;
-  extvector = 0;
-  restart_global = 1;
-  restart_peratom = 1;
-  create_attribute = 1;
   mass_.assign(planes_.size(), 0.0);
   rate_.assign(planes_.size(), 0.0);
-
-  nside_ = 1 + static_cast<int>(planes_.size());
-  grow_arrays(atom->nmax);
-  for (int i = 0; i < atom->nmax; ++i) set_arrays(i);
-  atom->add_callback(0);
-  atom->add_callback(1);
+  allocate_per_atom(kSides + static_cast<int>(planes_.size()), 2);
 
   // the file is opened when the first run starts: by then a restart file has told the fix whether it
   // continues an earlier measurement (restart() is called after the constructor)
 }
 
 // Rank 0 opens the file (append or new, see measure_common.h open_output) with its header.
-void FixMassflowPlanes::open_file()
+void FixMassflowPlanes::open_mass_flow_file()
 {
   file_opened_ = true;
   if (path_.empty()) return;
@@ -110,42 +94,25 @@ void FixMassflowPlanes::open_file()
   header += "# columns: step time";
   for (size_t k = 0; k < planes_.size(); ++k) header += " sensor_" + std::to_string(k + 1);
   header += "\n";
-  fp_ = tsg::measure::open_output(lmp, std::string("fix ") + id + " massflow/planes", "mass-flow file", path_, header,
-                                  append_, continuing_, {"# fix "});
+  open_file("mass-flow file", path_, header, {"# fix "});
 }
-
-FixMassflowPlanes::~FixMassflowPlanes()
-{
-  atom->delete_callback(id, 0);
-  atom->delete_callback(id, 1);
-  memory->destroy(bounds_);
-  memory->destroy(side_);
-  if (fp_) fclose(fp_);
-  tsg::run_files::release(std::string("fix ") + id + " massflow/planes");
-}
-
-int FixMassflowPlanes::setmask() { return FixConst::END_OF_STEP; }
 
 void FixMassflowPlanes::init()
 {
-  const std::string who = std::string("fix ") + id + " massflow/planes";
-  if (!atom->rmass_flag) fail(lmp, who, "needs per-particle mass (atom_style granular or sphere)");
+  if (!atom->rmass_flag) fail(lmp, who_, "needs per-particle mass (atom_style granular or sphere)");
   if (tsg::measure::fixed_box_x(domain))
     for (size_t k = 0; k < planes_.size(); ++k)
-      tsg::measure::check_plane_in_box(lmp, who, "plane " + std::to_string(k + 1) + " at", planes_[k],
+      tsg::measure::check_plane_in_box(lmp, who_, "plane " + std::to_string(k + 1) + " at", planes_[k],
                                        domain->xperiodic);
   near_.configure(neighbor, atom);
-  if (!file_opened_) open_file();
+  if (!file_opened_) open_mass_flow_file();
 }
 
-double FixMassflowPlanes::unwrapped_x(int i, double near) const
+void FixMassflowPlanes::refresh(int i)
 {
-  return tsg::measure::unwrapped_x(atom, domain, i, near);
+  hot_[i][0] = state_[i][kLo];
+  hot_[i][1] = state_[i][kHi];
 }
-
-double FixMassflowPlanes::now() const { return clock_.now(update); }
-
-double FixMassflowPlanes::period() const { return domain->xperiodic ? domain->xprd : 0.0; }
 
 // Records particle i's side of every plane at u, and the interval around u where none changes
 // (shrunk on a periodic axis by a margin far above rounding, so that the floor formula of
@@ -154,20 +121,21 @@ void FixMassflowPlanes::place(int i, double u)
 {
   const double length = period();
   double lo = -INFINITY, hi = INFINITY;
-  double *side = side_[i];
-  side[0] = 1.0;
+  double *state = state_[i];
+  double *side = state + kSides;
+  state[kSeen] = 1.0;
   for (size_t k = 0; k < planes_.size(); ++k) {
     const double plane = planes_[k];
     if (length > 0) {
       const double n = std::floor((u - plane) / length);
-      side[1 + k] = n;
+      side[k] = n;
       lo = std::max(lo, plane + n * length);
       hi = std::min(hi, plane + (n + 1) * length);
     } else if (u >= plane) {
-      side[1 + k] = 1.0;
+      side[k] = 1.0;
       lo = std::max(lo, plane);
     } else {
-      side[1 + k] = 0.0;
+      side[k] = 0.0;
       hi = std::min(hi, plane);
     }
   }
@@ -176,8 +144,9 @@ void FixMassflowPlanes::place(int i, double u)
     lo += margin;
     hi -= margin;
   }
-  bounds_[i][0] = lo;
-  bounds_[i][1] = hi;
+  state[kLo] = lo;
+  state[kHi] = hi;
+  refresh(i);
 }
 
 void FixMassflowPlanes::setup(int)
@@ -185,8 +154,8 @@ void FixMassflowPlanes::setup(int)
   clock_.resume(update);
   // first sight of particles present now; positions changed between runs (set, displace_atoms) are
   // taken as they are, without counting
-  near_.visit(true, atom, groupbit, period(), bounds_, [&](int i) {
-    const double near = side_[i][0] != 0 ? bounds_[i][0] : NAN;
+  near_.visit(true, atom, groupbit, period(), hot_, [&](int i) {
+    const double near = state_[i][kSeen] != 0 ? state_[i][kLo] : NAN;
     place(i, unwrapped_x(i, std::isfinite(near) ? near : NAN));
   });
 }
@@ -194,7 +163,7 @@ void FixMassflowPlanes::setup(int)
 void FixMassflowPlanes::end_of_step()
 {
   const double length = period();
-  near_.visit(neighbor->ago == 0, atom, groupbit, length, bounds_, [&](int i) { count_one(i, length); });
+  near_.visit(neighbor->ago == 0, atom, groupbit, length, hot_, [&](int i) { count_one(i, length); });
   window_time_ += update->dt;
   const size_t nplanes = planes_.size();
   if (update->ntimestep % window_ != 0) {
@@ -218,86 +187,23 @@ void FixMassflowPlanes::end_of_step()
 void FixMassflowPlanes::count_one(int i, double length)
 {
   double u = tsg::measure::unwrapped_x_fast(atom->x[0], atom->image, i, length);
-  const double *b = bounds_[i];
+  const double *b = hot_[i];
   if (u >= b[0] && u < b[1]) return;  // the common case: no plane anywhere near
-  double *side = side_[i];
-  if (side[0] == 0) {  // inserted during this step: counts from the next step on
+  const double *side = state_[i] + kSides;
+  if (state_[i][kSeen] == 0) {  // inserted during this step: counts from the next step on
     place(i, u);
     return;
   }
   u = unwrapped_x(i, std::isfinite(b[0]) ? b[0] : b[1]);
   for (size_t k = 0; k < planes_.size(); ++k) {
     const double now_side = length > 0 ? std::floor((u - planes_[k]) / length) : (u >= planes_[k] ? 1.0 : 0.0);
-    const double crossings = now_side - side[1 + k];
+    const double crossings = now_side - side[k];
     if (crossings != 0) mass_[k] += crossings * atom->rmass[i];
   }
   place(i, u);
 }
 
 double FixMassflowPlanes::compute_vector(int k) { return rate_[k]; }
-
-void FixMassflowPlanes::grow_arrays(int nmax)
-{
-  memory->grow(bounds_, nmax, 2, "massflow/planes:bounds");
-  memory->grow(side_, nmax, nside_, "massflow/planes:side");
-}
-
-void FixMassflowPlanes::copy_arrays(int i, int j, int)
-{
-  bounds_[j][0] = bounds_[i][0];
-  bounds_[j][1] = bounds_[i][1];
-  std::copy(side_[i], side_[i] + nside_, side_[j]);
-}
-
-void FixMassflowPlanes::set_arrays(int i)
-{
-  bounds_[i][0] = bounds_[i][1] = 0.0;          // empty interval: the next step looks at it
-  std::fill(side_[i], side_[i] + nside_, 0.0);  // not seen yet
-}
-
-int FixMassflowPlanes::pack_exchange(int i, double *buf)
-{
-  buf[0] = bounds_[i][0];
-  buf[1] = bounds_[i][1];
-  std::copy(side_[i], side_[i] + nside_, buf + 2);
-  return 2 + nside_;
-}
-
-int FixMassflowPlanes::unpack_exchange(int nlocal, double *buf)
-{
-  bounds_[nlocal][0] = buf[0];
-  bounds_[nlocal][1] = buf[1];
-  std::copy(buf + 2, buf + 2 + nside_, side_[nlocal]);
-  return 2 + nside_;
-}
-
-int FixMassflowPlanes::pack_restart(int i, double *buf)
-{
-  buf[0] = 3 + nside_;
-  buf[1] = bounds_[i][0];
-  buf[2] = bounds_[i][1];
-  std::copy(side_[i], side_[i] + nside_, buf + 3);
-  return 3 + nside_;
-}
-
-void FixMassflowPlanes::unpack_restart(int nlocal, int nth)
-{
-  double **extra = atom->extra;
-  int m = 0;
-  for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
-  if (static_cast<int>(extra[nlocal][m]) != 3 + nside_)
-    tsg::measure::fail_one(
-        lmp, std::string("fix ") + id + " massflow/planes",
-        std::string("the restart file holds ") + std::to_string(static_cast<int>(extra[nlocal][m]) - 3) +
-            " sides per particle, this fix needs " + std::to_string(nside_) + " (a different number of planes?)");
-  bounds_[nlocal][0] = extra[nlocal][m + 1];
-  bounds_[nlocal][1] = extra[nlocal][m + 2];
-  std::copy(&extra[nlocal][m + 3], &extra[nlocal][m + 3] + nside_, side_[nlocal]);
-}
-
-int FixMassflowPlanes::size_restart(int) { return 3 + nside_; }
-
-int FixMassflowPlanes::maxsize_restart() { return 3 + nside_; }
 
 // global state: a format mark, the sensor positions (a restart must continue with the same sensors),
 // the open window (duration, net mass), the last rates and the clock. Only rank 0 writes,
@@ -315,11 +221,7 @@ void FixMassflowPlanes::write_restart(FILE *fp)
   list.insert(list.end(), mass_.begin(), mass_.end());
   list.resize(list.size() + 2);
   clock_.save(update, &list[list.size() - 2], &list[list.size() - 1]);
-  if (comm->me == 0) {
-    int size = static_cast<int>(list.size() * sizeof(double));
-    fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list.data(), sizeof(double), list.size(), fp);
-  }
+  write_global(fp, list);
 }
 
 // Sums the open window's mass over the ranks onto rank 0 (collective); the total is unchanged.
@@ -334,10 +236,9 @@ void FixMassflowPlanes::post_run() { consolidate(); }
 
 void FixMassflowPlanes::restart(char *buf)
 {
-  const std::string who = std::string("fix ") + id + " massflow/planes";
   const double *list = reinterpret_cast<const double *>(buf);
   if (list[0] != kRestartMark)
-    fail(lmp, who,
+    fail(lmp, who_,
          "the restart file was written by an earlier version of this fix, which did not keep its "
          "sensor positions; continue from a restart file written by this version");
   const size_t n = static_cast<size_t>(list[1]);
@@ -347,7 +248,7 @@ void FixMassflowPlanes::restart(char *buf)
   std::string now_planes;
   for (size_t k = 0; k < planes_.size(); ++k) now_planes += (k ? " " : "") + number(planes_[k]);
   if (n != planes_.size() || !std::equal(planes_.begin(), planes_.end(), positions))
-    fail(lmp, who,
+    fail(lmp, who_,
          "the restart file was written with planes " + std::to_string(n) + " " + stored + ", this fix has planes " +
              std::to_string(planes_.size()) + " " + now_planes +
              "; a mass-flow record cannot mix two sets of sensors: use the planes of the earlier run, or "
@@ -360,5 +261,3 @@ void FixMassflowPlanes::restart(char *buf)
   clock_.load(rest[2 * n], rest[2 * n + 1]);
   continuing_ = true;
 }
-
-double FixMassflowPlanes::memory_usage() { return static_cast<double>(atom->nmax) * (2 + nside_) * sizeof(double); }

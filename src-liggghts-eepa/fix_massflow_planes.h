@@ -19,69 +19,44 @@ FixStyle(massflow/planes,FixMassflowPlanes)
 #ifndef TSG_FIX_MASSFLOW_PLANES_H
 #define TSG_FIX_MASSFLOW_PLANES_H
 
-#include <cstdio>
 #include <string>
 #include <vector>
 
-#include "fix.h"
-
-#include "measure_common.h"
+#include "fix_measure_base.h"
 
 namespace LAMMPS_NS {
 
-class FixMassflowPlanes : public Fix {
+class FixMassflowPlanes : public FixMeasureBase {
 public:
   FixMassflowPlanes(class LAMMPS *, int, char **);
-  ~FixMassflowPlanes() override;
-  int setmask() override;
   void init() override;
   void setup(int) override;
   void end_of_step() override;
   void post_run() override;
   double compute_vector(int) override;
-
-  void grow_arrays(int) override;
-  void copy_arrays(int, int, int) override;
-  void set_arrays(int) override;
-  int pack_exchange(int, double *) override;
-  int unpack_exchange(int, double *) override;
-  int pack_restart(int, double *) override;
-  void unpack_restart(int, int) override;
-  int size_restart(int) override;
-  int maxsize_restart() override;
   void write_restart(FILE *) override;
   void restart(char *) override;
-  double memory_usage() override;
 
 private:
-  double unwrapped_x(int i, double near) const;
-  double period() const;
+  // per-particle state (migrates, restarted): the interval [lo, hi) between plane images it lies in,
+  // shrunk by a rounding margin on a periodic axis, inside which no crossing can happen; 1 once
+  // seen; then for each plane k the side it is on, floor((u - X_k)/L) on a periodic axis or
+  // [u >= X_k] on an open one: the net crossings of a step are the change of these numbers.
+  // hot_ holds the copy of [lo, hi), the only data read every step.
+  enum StateSlot { kLo = 0, kHi = 1, kSeen = 2, kSides = 3 };
+  void refresh(int i) override;
+  std::string state_size_hint() const override { return "a different number of planes?"; }
+  void place(int i, double u);
+  void count_one(int i, double length);
   void consolidate();
-  double now() const;
-  void open_file();
+  void open_mass_flow_file();
 
   std::vector<double> planes_;
-  int window_;
+  int window_ = 0;
   std::string path_;
-  tsg::measure::Append append_;
-  bool continuing_;  // restored from a restart file: the file continues
-  bool file_opened_;
-  FILE *fp_;  // rank 0
-  void place(int i, double u);
-
-  // per atom, the only data read every step: the interval [lo, hi) between plane images it lies in,
-  // shrunk by a rounding margin on a periodic axis, inside which no crossing can happen
-  double **bounds_;
-  // per atom: 1 once seen, then for each plane k the side it is on, floor((u - X_k)/L) on a periodic
-  // axis or [u >= X_k] on an open one; the net crossings of a step are the change of these numbers
-  double **side_;
-  int nside_;
-  tsg::measure::NearList near_;  // particles near a plane image (measure_common.h)
-  void count_one(int i, double length);
-  std::vector<double> mass_;          // net mass through each plane in the open window, this rank, kg
-  double window_time_;                // duration of the open window so far, s
-  std::vector<double> rate_;          // last completed window, kg/h
-  tsg::measure::RestartClock clock_;  // the clock across a restart (LIGGGHTS 3.8 restarts its time at 0)
+  std::vector<double> mass_;  // net mass through each plane in the open window, this rank, kg
+  double window_time_ = 0;    // duration of the open window so far, s
+  std::vector<double> rate_;  // last completed window, kg/h
 };
 
 }  // namespace LAMMPS_NS

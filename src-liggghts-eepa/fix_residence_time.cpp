@@ -29,7 +29,6 @@
 #include "domain.h"
 #include "error.h"
 #include "group.h"
-#include "memory.h"
 #include "neighbor.h"
 #include "output.h"
 #include "update.h"
@@ -50,24 +49,22 @@ constexpr int kRecordHead = 8;  // id entry exit residence reason type_time[3]
 }  // namespace
 
 FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
-    : Fix(lmp, narg, arg), plane_reference_(0), analysis_lo_(-INFINITY), analysis_hi_(INFINITY), has_analysis_(false),
-      existing_given_(false), write_inside_(false), append_(tsg::measure::Append::automatic), continuing_(false),
-      flush_every_(1000), flush_given_(false), first_setup_done_(false), nvalues_(0), state_(nullptr), bounds_(nullptr),
-      inside_(nullptr), fp_(nullptr), cache_valid_(false), inside_now_(0)
+    : FixMeasureBase(lmp, narg, arg), plane_reference_(0), analysis_lo_(-INFINITY), analysis_hi_(INFINITY),
+      has_analysis_(false), existing_given_(false), write_inside_(false), flush_every_(1000), flush_given_(false),
+      first_setup_done_(false), cache_valid_(false), inside_now_(0)
 {
-  const std::string who = std::string("fix ") + id + " residence/time";
   const char *zones_file = nullptr;
   const char *records_file = nullptr;
   bool has_periodic = false;
   for (int iarg = 3; iarg < narg;) {
     const std::string key = arg[iarg];
     auto need = [&](int n) {
-      if (iarg + n >= narg) fail(lmp, who, "keyword '" + key + "' needs " + std::to_string(n) + " value(s)");
+      if (iarg + n >= narg) fail(lmp, who_, "keyword '" + key + "' needs " + std::to_string(n) + " value(s)");
     };
     auto real = [&](int k) {
       double value = 0;
       if (!tsg::measure::parse_real(arg[iarg + k], value))
-        fail(lmp, who, key + " value '" + arg[iarg + k] + "' is not a finite number (m)");
+        fail(lmp, who_, key + " value '" + arg[iarg + k] + "' is not a finite number (m)");
       return value;
     };
     if (key == "zones") {
@@ -99,7 +96,7 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
       analysis_hi_ = real(2);
       has_analysis_ = true;
       if (!(analysis_hi_ > analysis_lo_))
-        fail(lmp, who, std::string("analysis XLO XHI = ") + arg[iarg + 1] + " " + arg[iarg + 2] + " needs XLO < XHI");
+        fail(lmp, who_, std::string("analysis XLO XHI = ") + arg[iarg + 1] + " " + arg[iarg + 2] + " needs XLO < XHI");
       iarg += 3;
     } else if (key == "existing") {
       need(1);
@@ -108,77 +105,53 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
       else if (strcmp(arg[iarg + 1], "wait") == 0)
         settings_.tag_existing = false;
       else
-        fail(lmp, who, std::string("existing = '") + arg[iarg + 1] + "' must be 'tag' or 'wait'");
+        fail(lmp, who_, std::string("existing = '") + arg[iarg + 1] + "' must be 'tag' or 'wait'");
       existing_given_ = true;
       iarg += 2;
     } else if (key == "inside") {
       need(1);
-      write_inside_ = tsg::measure::parse_yes_no(lmp, who, "inside", arg[iarg + 1]);
+      write_inside_ = tsg::measure::parse_yes_no(lmp, who_, "inside", arg[iarg + 1]);
       iarg += 2;
     } else if (key == "append") {
       need(1);
-      append_ = tsg::measure::parse_append(lmp, who, arg[iarg + 1]);
+      append_ = tsg::measure::parse_append(lmp, who_, arg[iarg + 1]);
       iarg += 2;
     } else if (key == "flush") {
       need(1);
       long n = 0;
       if (!tsg::measure::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
-        fail(lmp, who, std::string("flush = '") + arg[iarg + 1] + "' must be a positive integer (steps)");
+        fail(lmp, who_, std::string("flush = '") + arg[iarg + 1] + "' must be a positive integer (steps)");
       flush_every_ = static_cast<int>(n);
       flush_given_ = true;
       iarg += 2;
     } else {
-      fail(lmp, who,
+      fail(lmp, who_,
            "unknown keyword '" + key +
                "' (allowed: zones, records, inlet, outlet, periodic, analysis, existing, inside, flush, append)");
     }
   }
-  if (!zones_file) fail(lmp, who, "missing 'zones FILE' (the zones file of the mesh generator)");
-  if (!records_file) fail(lmp, who, "missing 'records FILE' (where the records are written)");
+  if (!zones_file) fail(lmp, who_, "missing 'zones FILE' (the zones file of the mesh generator)");
+  if (!records_file) fail(lmp, who_, "missing 'records FILE' (where the records are written)");
   settings_.periodic = has_periodic;
   if (has_periodic && (settings_.has_inlet || settings_.has_outlet))
-    fail(lmp, who,
+    fail(lmp, who_,
          "'periodic' cannot be combined with 'inlet' or 'outlet' (a pass runs from one "
          "crossing of the reference plane to the next)");
   if (settings_.has_inlet && settings_.has_outlet && !(settings_.outlet > settings_.inlet))
-    fail(lmp, who,
+    fail(lmp, who_,
          "outlet " + number(settings_.outlet) + " must lie downstream (+x) of inlet " + number(settings_.inlet));
   if (!existing_given_) settings_.tag_existing = !has_periodic;
 
   zones_path_ = zones_file;
   records_path_ = records_file;
-  zones_ = tsg::measure::read_zones(lmp, zones_path_, who);
-  tsg::measure::claim_output(lmp, who, "records file", records_path_);
-  nvalues_ = Slot::zone0 + static_cast<int>(zones_.size());
-
-  nevery = 1;
-  vector_flag = 1;
+  zones_ = tsg::measure::read_zones(lmp, zones_path_, who_);
+  tsg::measure::claim_output(lmp, who_, "records file", records_path_);
   size_vector = 9;
-  global_freq = 1;
-  extvector = 0;
-  restart_global = 1;
-  restart_peratom = 1;
-  create_attribute = 1;
   for (double &c : local_) c = 0;
   for (double &c : total_) c = 0;
-
-  grow_arrays(atom->nmax);
-  for (int i = 0; i < atom->nmax; ++i) set_arrays(i);
-  atom->add_callback(0);
-  atom->add_callback(1);
+  allocate_per_atom(Slot::zone0 + static_cast<int>(zones_.size()), kHotSlots);
   // the records file is opened when the first run starts: by then a restart file has told the fix
   // whether it continues an earlier measurement (restart() is called after the constructor)
-}
-
-FixResidenceTime::~FixResidenceTime()
-{
-  atom->delete_callback(id, 0);
-  atom->delete_callback(id, 1);
-  memory->destroy(state_);
-  memory->destroy(bounds_);
-  memory->destroy(inside_);
-  if (fp_) fclose(fp_);
-  tsg::run_files::release(std::string("fix ") + id + " residence/time");
 }
 
 void FixResidenceTime::open_records_file()
@@ -204,35 +177,30 @@ void FixResidenceTime::open_records_file()
             "exit_reason: outlet pass deleted lost inside\n";
   header += "# columns: " + res::record_columns(static_cast<int>(zones_.size())) + "\n";
   // the fix id, group and the zones file's name may change between the parts of a measurement
-  fp_ = tsg::measure::open_output(lmp, std::string("fix ") + id + " residence/time", "records file", records_path_,
-                                  header, append_, continuing_, {"# fix ", "# zones file: "});
-  records_opened_ = true;
+  open_file("records file", records_path_, header, {"# fix ", "# zones file: "});
 }
-
-int FixResidenceTime::setmask() { return FixConst::END_OF_STEP; }
 
 void FixResidenceTime::init()
 {
-  const std::string who = std::string("fix ") + id + " residence/time";
-  if (!atom->tag_enable) fail(lmp, who, "needs atom IDs (atom_modify id yes)");
+  if (!atom->tag_enable) fail(lmp, who_, "needs atom IDs (atom_modify id yes)");
   const double lo = domain->boxlo[0], hi = domain->boxhi[0];
   const bool x_periodic = domain->xperiodic;
-  if (settings_.periodic && !x_periodic) fail(lmp, who, "'periodic' needs a box periodic in x (boundary p ...)");
+  if (settings_.periodic && !x_periodic) fail(lmp, who_, "'periodic' needs a box periodic in x (boundary p ...)");
   if (!settings_.periodic && x_periodic)
-    fail(lmp, who, "the box is periodic in x; give 'periodic X' (the reference plane of a pass)");
+    fail(lmp, who_, "the box is periodic in x; give 'periodic X' (the reference plane of a pass)");
   if (tsg::measure::fixed_box_x(domain)) {
     try {
       tsg::zones::check_inside(zones_, lo, hi, "zones file '" + zones_path_ + "'");
     } catch (const std::invalid_argument &e) {
-      fail(lmp, who, e.what());
+      fail(lmp, who_, e.what());
     }
     using tsg::measure::check_plane_in_box;
-    if (settings_.has_inlet) check_plane_in_box(lmp, who, "inlet plane", settings_.inlet, false);
-    if (settings_.has_outlet) check_plane_in_box(lmp, who, "outlet plane", settings_.outlet, false);
-    if (settings_.periodic) check_plane_in_box(lmp, who, "periodic reference plane", plane_reference_, true);
+    if (settings_.has_inlet) check_plane_in_box(lmp, who_, "inlet plane", settings_.inlet, false);
+    if (settings_.has_outlet) check_plane_in_box(lmp, who_, "outlet plane", settings_.outlet, false);
+    if (settings_.periodic) check_plane_in_box(lmp, who_, "periodic reference plane", plane_reference_, true);
     if (has_analysis_) {
-      check_plane_in_box(lmp, who, "analysis XLO plane", analysis_lo_, false);
-      check_plane_in_box(lmp, who, "analysis XHI plane", analysis_hi_, false);
+      check_plane_in_box(lmp, who_, "analysis XLO plane", analysis_lo_, false);
+      check_plane_in_box(lmp, who_, "analysis XHI plane", analysis_hi_, false);
     }
   }
   std::vector<tsg::axial::Plane> planes;
@@ -243,10 +211,10 @@ void FixResidenceTime::init()
   try {
     partition = tsg::axial::build_partition(zones_, settings_.periodic, lo, hi, analysis_lo_, analysis_hi_, planes);
   } catch (const std::invalid_argument &e) {
-    fail(lmp, who, e.what());
+    fail(lmp, who_, e.what());
   }
   if (!partition_edges_.empty() && partition_edges_ != partition.edge)
-    fail(lmp, who,
+    fail(lmp, who_,
          "the box along x changed since the fix was defined; the tracked zone cells would "
          "no longer match (unfix and define the fix again)");
   partition_edges_ = partition.edge;
@@ -254,19 +222,14 @@ void FixResidenceTime::init()
   for (const auto &z : zones_) types.push_back(z.type);
   tracker_ = res::Tracker(partition, types, settings_);
   if (!flush_given_) flush_every_ = output->thermo_every > 0 ? output->thermo_every : 1000;
-  comm->maxexchange_fix = std::max(comm->maxexchange_fix, nvalues_ + 1);
+  comm->maxexchange_fix = std::max(comm->maxexchange_fix, nstate_ + 1);
   near_.configure(neighbor, atom);
-  if (!records_opened_) open_records_file();
-}
-
-double FixResidenceTime::unwrapped_x(int i, double near) const
-{
-  return tsg::measure::unwrapped_x(atom, domain, i, near);
+  if (!file_opened_) open_records_file();
 }
 
 void FixResidenceTime::remember(int i)
 {
-  ledger_.remember(static_cast<long long>(state_[i][Slot::id]), state_[i], nvalues_);
+  ledger_.remember(static_cast<long long>(state_[i][Slot::id]), state_[i], nstate_);
 }
 
 void FixResidenceTime::add_record(const res::Record &record)
@@ -298,15 +261,15 @@ void FixResidenceTime::add_record(const res::Record &record)
 void FixResidenceTime::track(double t0, double t1, bool at_setup)
 {
   long starts = 0;
-  near_.visit(at_setup || neighbor->ago == 0, atom, groupbit, settings_.periodic ? domain->xprd : 0.0, bounds_,
+  near_.visit(at_setup || neighbor->ago == 0, atom, groupbit, period(), hot_,
               [&](int i) { track_one(i, t0, t1, at_setup, starts); });
   local_[kEntered] += starts;
 }
 
 void FixResidenceTime::track_one(int i, double t0, double t1, bool at_setup, long &starts)
 {
-  double u = tsg::measure::unwrapped_x_fast(atom->x[0], atom->image, i, settings_.periodic ? domain->xprd : 0.0);
-  const double *b = bounds_[i];
+  double u = tsg::measure::unwrapped_x_fast(atom->x[0], atom->image, i, period());
+  const double *b = hot_[i];
   if (u >= b[0] && u < b[1]) return;  // the common case: still in the same cell, nothing changes
   double *s = state_[i];
   const int status = static_cast<int>(s[Slot::status]);
@@ -316,7 +279,7 @@ void FixResidenceTime::track_one(int i, double t0, double t1, bool at_setup, lon
       ++starts;
       remember(i);
     }
-    sync_hot(i);
+    refresh(i);
     return;
   }
   const bool was_inside = status == res::kInside;
@@ -331,7 +294,7 @@ void FixResidenceTime::track_one(int i, double t0, double t1, bool at_setup, lon
       remember(i);
     else if (was_inside)
       ledger_.forget(static_cast<long long>(s[Slot::id]));
-    sync_hot(i);
+    refresh(i);
   }
 }
 
@@ -343,7 +306,7 @@ void FixResidenceTime::check_ids()
     if (!(atom->mask[i] & groupbit)) continue;
     const double *s = state_[i];
     if (s[Slot::status] != res::kUnseen && s[Slot::id] != tag[i])
-      tsg::measure::fail_one(lmp, std::string("fix ") + id + " residence/time",
+      tsg::measure::fail_one(lmp, who_,
                              "particle id changed from " + number(s[Slot::id]) + " to " + std::to_string(tag[i]) +
                                  " (ids renumbered, e.g. by delete_atoms ... compress yes); residence tracking "
                                  "needs stable ids: use compress no");
@@ -356,7 +319,7 @@ void FixResidenceTime::reconcile(double t)
   const int *mask = atom->mask;
   // 1. particles gone from this rank without leaving through pack_exchange: deleted
   long owned_inside = 0;
-  for (int i = 0; i < nlocal; ++i) owned_inside += inside_[i];  // only group members are ever inside
+  for (int i = 0; i < nlocal; ++i) owned_inside += hot_[i][kHotInside] != 0;  // only group members are ever inside
   if (owned_inside != ledger_.resident()) {
     std::unordered_set<long long> owned;
     owned.reserve(static_cast<size_t>(owned_inside) * 2 + 1);
@@ -398,8 +361,6 @@ void FixResidenceTime::reconcile(double t)
   }
   ledger_.end_exchange();
 }
-
-double FixResidenceTime::now() const { return clock_.now(update); }
 
 void FixResidenceTime::setup(int)
 {
@@ -509,7 +470,7 @@ double FixResidenceTime::compute_vector(int n)
   if (!cache_valid_) {  // collective: thermo and variables evaluate fix values on every rank
     sync_counters();
     double inside = 0;
-    for (int i = 0; i < atom->nlocal; ++i) inside += inside_[i];
+    for (int i = 0; i < atom->nlocal; ++i) inside += hot_[i][kHotInside];
     MPI_Allreduce(&inside, &inside_now_, 1, MPI_DOUBLE, MPI_SUM, world);
     cache_valid_ = true;
   }
@@ -536,71 +497,19 @@ double FixResidenceTime::compute_vector(int n)
   }
 }
 
-// ---- per-atom state ------------------------------------------------------------------------------
+// ---- the ledger follows inside particles from rank to rank ----------------------------------------
 
-void FixResidenceTime::grow_arrays(int nmax)
+void FixResidenceTime::leaving(int i)
 {
-  memory->grow(state_, nmax, nvalues_, "residence/time:state");
-  memory->grow(bounds_, nmax, 2, "residence/time:bounds");
-  memory->grow(inside_, nmax, "residence/time:inside");
-}
-
-void FixResidenceTime::copy_arrays(int i, int j, int)
-{
-  std::copy(state_[i], state_[i] + nvalues_, state_[j]);
-  bounds_[j][0] = bounds_[i][0];
-  bounds_[j][1] = bounds_[i][1];
-  inside_[j] = inside_[i];
-}
-
-void FixResidenceTime::set_arrays(int i)
-{
-  std::fill(state_[i], state_[i] + nvalues_, 0.0);  // kUnseen, cell [0, 0): first sight at the next step
-  sync_hot(i);
-}
-
-int FixResidenceTime::pack_exchange(int i, double *buf)
-{
-  std::copy(state_[i], state_[i] + nvalues_, buf);
   if (state_[i][Slot::status] == res::kInside) ledger_.packed(static_cast<long long>(state_[i][Slot::id]));
-  return nvalues_;
 }
 
-int FixResidenceTime::unpack_exchange(int nlocal, double *buf)
+void FixResidenceTime::arrived(int i)
 {
-  std::copy(buf, buf + nvalues_, state_[nlocal]);
-  sync_hot(nlocal);
-  if (state_[nlocal][Slot::status] == res::kInside) {
-    ledger_.arrived();
-    remember(nlocal);
-  }
-  return nvalues_;
+  if (state_[i][Slot::status] != res::kInside) return;
+  ledger_.arrived();
+  remember(i);
 }
-
-int FixResidenceTime::pack_restart(int i, double *buf)
-{
-  buf[0] = nvalues_ + 1;
-  std::copy(state_[i], state_[i] + nvalues_, buf + 1);
-  return nvalues_ + 1;
-}
-
-void FixResidenceTime::unpack_restart(int nlocal, int nth)
-{
-  double **extra = atom->extra;
-  int m = 0;
-  for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
-  const int size = static_cast<int>(extra[nlocal][m]) - 1;
-  if (size != nvalues_)
-    tsg::measure::fail_one(lmp, std::string("fix ") + id + " residence/time",
-                           "the restart file holds " + std::to_string(size) + " values per particle, this fix needs " +
-                               std::to_string(nvalues_) + " (a zones file with a different number of zones?)");
-  std::copy(&extra[nlocal][m + 1], &extra[nlocal][m + 1] + nvalues_, state_[nlocal]);
-  sync_hot(nlocal);
-}
-
-int FixResidenceTime::size_restart(int) { return nvalues_ + 1; }
-
-int FixResidenceTime::maxsize_restart() { return nvalues_ + 1; }
 
 // global state: a format mark, the counters (synced at every restart step, see end_of_step), whether
 // the particles present at the start have been seen, the clock, and the identity of the zones
@@ -628,24 +537,19 @@ void FixResidenceTime::write_restart(FILE *fp)
   clock_.save(update, &list[kClockTime], &list[kClockStep]);
   const std::vector<double> identity = tsg::zones::identity(zones_);
   list.insert(list.end(), identity.begin(), identity.end());
-  if (comm->me == 0) {
-    int size = static_cast<int>(list.size() * sizeof(double));
-    fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list.data(), sizeof(double), list.size(), fp);
-  }
+  write_global(fp, list);
 }
 
 void FixResidenceTime::restart(char *buf)
 {
-  const std::string who = std::string("fix ") + id + " residence/time";
   const double *list = reinterpret_cast<const double *>(buf);
   if (list[kMark] != kRestartMark)
-    fail(lmp, who,
+    fail(lmp, who_,
          "the restart file was written by an earlier version of this fix, which did not keep the "
          "identity of its zones; continue from a restart file written by this version");
   const std::string difference = tsg::zones::identity_difference(list + kZonesIdentity, zones_);
   if (!difference.empty())
-    fail(lmp, who,
+    fail(lmp, who_,
          "the zones file '" + zones_path_ +
              "' does not describe the zones the restart file was "
              "written with: " +
@@ -661,7 +565,5 @@ void FixResidenceTime::restart(char *buf)
 
 double FixResidenceTime::memory_usage()
 {
-  double bytes = static_cast<double>(atom->nmax) * (nvalues_ + 2) * sizeof(double);
-  bytes += static_cast<double>(ledger_.size()) * (nvalues_ * sizeof(double) + 64);
-  return bytes;
+  return FixMeasureBase::memory_usage() + static_cast<double>(ledger_.size()) * (nstate_ * sizeof(double) + 64);
 }

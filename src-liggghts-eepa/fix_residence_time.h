@@ -31,52 +31,40 @@ FixStyle(residence/time,FixResidenceTime)
 #include <string>
 #include <vector>
 
-#include "fix.h"
-
+#include "fix_measure_base.h"
 #include "ledger.h"
-#include "measure_common.h"
 #include "residence.h"
 #include "zones.h"
 
 namespace LAMMPS_NS {
 
-class FixResidenceTime : public Fix {
+class FixResidenceTime : public FixMeasureBase {
 public:
   FixResidenceTime(class LAMMPS *, int, char **);
-  ~FixResidenceTime() override;
-  int setmask() override;
   void init() override;
   void setup(int) override;
   void end_of_step() override;
   void post_run() override;
   int modify_param(int, char **) override;
   double compute_vector(int) override;
-
-  void grow_arrays(int) override;
-  void copy_arrays(int, int, int) override;
-  void set_arrays(int) override;
-  int pack_exchange(int, double *) override;
-  int unpack_exchange(int, double *) override;
-  int pack_restart(int, double *) override;
-  void unpack_restart(int, int) override;
-  int size_restart(int) override;
-  int maxsize_restart() override;
   void write_restart(FILE *) override;
   void restart(char *) override;
   double memory_usage() override;
 
 private:
   enum Counter { kEntered, kOutlet, kPass, kDeleted, kLost, kRecordsInside, kSumResidence, kCounters };
-
-  double unwrapped_x(int i, double near) const;
-  // refreshes the compact copies (bounds_, inside_) after the state of particle i changed
-  void sync_hot(int i)
+  // state_: the per-particle state of residence.h (Slot layout); hot_: its cell bounds lo, hi and
+  // 1 when inside, the only data read every step (lo, hi) and on reneighbouring steps (inside)
+  enum HotSlot { kHotLo = 0, kHotHi = 1, kHotInside = 2, kHotSlots = 3 };
+  void refresh(int i) override
   {
-    bounds_[i][0] = state_[i][tsg::residence::Slot::lo];
-    bounds_[i][1] = state_[i][tsg::residence::Slot::hi];
-    inside_[i] = state_[i][tsg::residence::Slot::status] == tsg::residence::kInside;
+    hot_[i][kHotLo] = state_[i][tsg::residence::Slot::lo];
+    hot_[i][kHotHi] = state_[i][tsg::residence::Slot::hi];
+    hot_[i][kHotInside] = state_[i][tsg::residence::Slot::status] == tsg::residence::kInside;
   }
-  double now() const;
+  void leaving(int i) override;
+  void arrived(int i) override;
+  std::string state_size_hint() const override { return "a zones file with a different number of zones?"; }
   void track(double t0, double t1, bool at_setup);
   void track_one(int i, double t0, double t1, bool at_setup, long &starts);
   void reconcile(double t);
@@ -97,21 +85,11 @@ private:
   bool has_analysis_;
   bool existing_given_;
   bool write_inside_;
-  tsg::measure::Append append_;
-  bool continuing_;  // restored from a restart file: the records file continues
-  bool records_opened_ = false;
   int flush_every_;
   bool flush_given_;
   bool first_setup_done_;
 
-  int nvalues_;                  // per-atom state size
-  double **state_;               // per-atom state (residence.h Slot layout)
-  double **bounds_;              // per atom: copy of the state's cell bounds lo, hi (the only data read every step)
-  char *inside_;                 // per atom: 1 when the state says inside (read on reneighbouring steps)
-  tsg::measure::NearList near_;  // particles near a cell edge (measure_common.h)
-
   std::string records_path_;
-  FILE *fp_;  // rank 0
 
   tsg::residence::Ledger ledger_;  // inside particles owned here, by id (physics/ledger.h)
 
@@ -120,8 +98,6 @@ private:
   double total_[kCounters];  // all ranks, as of the last sync (restart-safe)
   bool cache_valid_;
   double inside_now_;
-
-  tsg::measure::RestartClock clock_;
 };
 
 }  // namespace LAMMPS_NS

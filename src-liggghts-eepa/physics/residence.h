@@ -38,21 +38,11 @@ enum Status : int { kUnseen = 0, kWaiting = 1, kInside = 2, kDone = 3 };
 
 enum class Reason { outlet = 0, pass = 1, deleted = 2, lost = 3, inside = 4 };
 
-inline const char *reason_name(Reason reason)
-{
-  switch (reason) {
-    case Reason::outlet:
-      return "outlet";
-    case Reason::pass:
-      return "pass";
-    case Reason::deleted:
-      return "deleted";
-    case Reason::lost:
-      return "lost";
-    default:
-      return "inside";
-  }
-}
+// The records file's exit_reason names, indexed by Reason.
+constexpr const char *kReasonNames[] = {"outlet", "pass", "deleted", "lost", "inside"};
+static_assert(sizeof kReasonNames / sizeof kReasonNames[0] == static_cast<int>(Reason::inside) + 1, "a name per Reason");
+
+inline const char *reason_name(Reason reason) { return kReasonNames[static_cast<int>(reason)]; }
 
 // Entries of the per-particle state; zone times follow from zone0 on. lo/hi: the particle's cell in
 // unwrapped coordinates, so that the per-step check is two comparisons (an empty interval for a
@@ -263,7 +253,8 @@ inline std::string format_record(const Record &r)
 // Column names of the records file, for its "# columns:" header line.
 inline std::string record_columns(int nzones)
 {
-  std::string line = "id entry_time exit_time residence_time exit_reason time_conveying time_kneading time_chopping";
+  std::string line = "id entry_time exit_time residence_time exit_reason";
+  for (const char *type : zones::kZoneTypeNames) line += std::string(" time_") + type;
   for (int z = 1; z <= nzones; ++z) line += " time_zone_" + std::to_string(z);
   return line;
 }

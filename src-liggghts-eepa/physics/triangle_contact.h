@@ -117,29 +117,20 @@ inline Contact closest_feature(const Triangle &t, const double *centre, double p
   const double bary2 = (a * c - b) / (t.edge_length[2] * one_minus_c2);
   const double bary0 = 1.0 - bary1 - bary2;
   const double tolerance = precision / (2.0 * t.bound_radius);
-  const int region = (bary0 > -tolerance) + 2 * (bary1 > -tolerance) + 4 * (bary2 > -tolerance);
-  switch (region) {
-    case 7: {  // inside: foot of the perpendicular on the plane
-      const double height = detail::dot(rel, t.normal);
-      double foot[3];
-      for (int d = 0; d < 3; ++d) foot[d] = centre[d] - height * t.normal[d];
-      return detail::to_point(centre, foot, Feature::face);
-    }
-    case 3:
-      return detail::beyond_edge(t, 0, centre);
-    case 6:
-      return detail::beyond_edge(t, 1, centre);
-    case 5:
-      return detail::beyond_edge(t, 2, centre);
-    case 1:
-      return detail::beyond_corner(t, 0, centre);
-    case 2:
-      return detail::beyond_corner(t, 1, centre);
-    case 4:
-      return detail::beyond_corner(t, 2, centre);
-    default:
-      return {};  // region 0 cannot occur for a non-degenerate triangle
+  const bool within[3] = {bary0 > -tolerance, bary1 > -tolerance, bary2 > -tolerance};
+  const int count = within[0] + within[1] + within[2];
+  if (count == 3) {  // inside: foot of the perpendicular on the plane
+    const double height = detail::dot(rel, t.normal);
+    double foot[3];
+    for (int d = 0; d < 3; ++d) foot[d] = centre[d] - height * t.normal[d];
+    return detail::to_point(centre, foot, Feature::face);
   }
+  // node k is the odd one out: with its coordinate the only negative one, the nearest feature is the
+  // edge opposite it, edge (k + 1) mod 3; with the only coordinate not negative, node k itself
+  const int k = within[0] == within[1] ? 2 : within[0] == within[2] ? 1 : 0;
+  if (count == 2) return detail::beyond_edge(t, (k + 1) % 3, centre);
+  if (count == 1) return detail::beyond_corner(t, k, centre);
+  return {};  // all three negative: cannot occur for a non-degenerate triangle
 }
 
 }  // namespace tsg::trimesh

@@ -31,17 +31,10 @@ namespace tsg::zones {
 enum class ZoneType { conveying = 0, kneading = 1, chopping = 2 };
 constexpr int kZoneTypes = 3;
 
-inline const char *type_name(ZoneType type)
-{
-  switch (type) {
-    case ZoneType::conveying:
-      return "conveying";
-    case ZoneType::kneading:
-      return "kneading";
-    default:
-      return "chopping";
-  }
-}
+// The zones file's type names, indexed by ZoneType: read, written and listed from this one table.
+constexpr const char *kZoneTypeNames[kZoneTypes] = {"conveying", "kneading", "chopping"};
+
+inline const char *type_name(ZoneType type) { return kZoneTypeNames[static_cast<int>(type)]; }
 
 struct Zone {
   int index;  // 1-based, as in the file
@@ -120,15 +113,12 @@ inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source
       throw std::invalid_argument(where(source, line_number) + "index " + tokens[0] + " out of sequence: expected " +
                                   std::to_string(expected) + " (zones are numbered 1, 2, 3, ... in file order)");
     zone.index = static_cast<int>(index);
-    if (tokens[1] == "conveying")
-      zone.type = ZoneType::conveying;
-    else if (tokens[1] == "kneading")
-      zone.type = ZoneType::kneading;
-    else if (tokens[1] == "chopping")
-      zone.type = ZoneType::chopping;
-    else
-      throw std::invalid_argument(where(source, line_number) + "type '" + tokens[1] +
-                                  "' is not one of conveying, kneading, chopping");
+    int type = 0;
+    while (type < kZoneTypes && tokens[1] != kZoneTypeNames[type]) ++type;
+    if (type == kZoneTypes)
+      throw std::invalid_argument(where(source, line_number) + "type '" + tokens[1] + "' is not one of " +
+                                  kZoneTypeNames[0] + ", " + kZoneTypeNames[1] + ", " + kZoneTypeNames[2]);
+    zone.type = static_cast<ZoneType>(type);
     const char *names[3] = {"x_start", "x_end", "free_volume"};
     double *targets[3] = {&zone.x_start, &zone.x_end, &zone.free_volume};
     for (int k = 0; k < 3; ++k)
