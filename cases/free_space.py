@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tsg_cases.command_line import command_parser, run_reporting
 from tsg_cases.psd import size_classes
 from tsg_meshes.analysis import inside, point_segment_distance, section_segments
 from tsg_meshes.surface import read_ascii_stl
@@ -262,9 +263,9 @@ def feed_include(corners: np.ndarray, side: float, source: str) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="tsg-free-space", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = parser.add_subparsers(dest="command", required=True)
-    f = sub.add_parser("fill", help="hold-up mass placed in the free space")
+    parser, commands = command_parser("tsg-free-space", __doc__, {
+        "fill": "hold-up mass placed in the free space", "feed": "insertion region free at every half revolution"})
+    f = commands["fill"]
     f.add_argument("mesh_dir", type=Path)
     f.add_argument("out", type=Path)
     f.add_argument("--mass", type=float, required=True, help="kg")
@@ -275,22 +276,15 @@ def main(argv: list[str] | None = None) -> int:
     f.add_argument("--x1", type=float, required=True)
     f.add_argument("--periodic", action="store_true")
     f.add_argument("--seed", type=int, default=12345)
-    g = sub.add_parser("feed", help="insertion region free at every half revolution")
+    g = commands["feed"]
     g.add_argument("mesh_dir", type=Path)
     g.add_argument("out", type=Path)
     g.add_argument("--x0", type=float, required=True)
     g.add_argument("--x1", type=float, required=True)
     g.add_argument("--side", type=float, required=True, help="cube edge, m")
     g.add_argument("--margin", type=float, default=1e-4, help="clearance from walls, m")
-    parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
     args = parser.parse_args(argv)
-    try:
-        return run(args)
-    except (FreeSpaceError, OSError) as problem:
-        if args.debug:
-            raise
-        print(f"tsg-free-space: error: {problem}", file=sys.stderr)
-        return 2
+    return run_reporting("tsg-free-space", lambda: run(args), (FreeSpaceError, OSError), args.debug)
 
 
 class FreeSpaceError(ValueError):

@@ -15,12 +15,13 @@ diameters are written relative to the mean, so the include file works for any me
 """
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 from pathlib import Path
 
 import numpy as np
+
+from tsg_cases.command_line import command_parser, run_reporting
 
 TRUNCATION = (0.5, 1.5)
 # LIGGGHTS requires prime seeds; the templates of constant radius draw nothing, any prime does
@@ -84,19 +85,18 @@ def include_text(relative_sigma: float, classes: int) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="tsg-psd", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = parser.add_subparsers(dest="command", required=True)
-    write = sub.add_parser("write", help="write the LIGGGHTS include of a PSD")
+    parser, commands = command_parser("tsg-psd", __doc__, {"write": "write the LIGGGHTS include of a PSD"})
+    write = commands["write"]
     write.add_argument("out", type=Path)
     write.add_argument("relative_sigma", type=float)
     write.add_argument("--classes", type=int, default=7)
     args = parser.parse_args(argv)
-    try:
-        text = include_text(args.relative_sigma, args.classes)
-        args.out.write_text(text)
-    except (ValueError, OSError) as problem:
-        print(f"tsg-psd: error: {problem}", file=sys.stderr)
-        return 2
+    return run_reporting("tsg-psd", lambda: write_include(args.out, args.relative_sigma, args.classes),
+                         (ValueError, OSError), args.debug)
+
+
+def write_include(out: Path, relative_sigma: float, classes: int) -> int:
+    out.write_text(include_text(relative_sigma, classes))
     return 0
 
 

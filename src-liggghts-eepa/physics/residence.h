@@ -40,7 +40,8 @@ enum class Reason { outlet = 0, pass = 1, deleted = 2, lost = 3, inside = 4 };
 
 // The records file's exit_reason names, indexed by Reason.
 constexpr const char *kReasonNames[] = {"outlet", "pass", "deleted", "lost", "inside"};
-static_assert(sizeof kReasonNames / sizeof kReasonNames[0] == static_cast<int>(Reason::inside) + 1, "a name per Reason");
+static_assert(sizeof kReasonNames / sizeof kReasonNames[0] == static_cast<int>(Reason::inside) + 1,
+              "a name per Reason");
 
 inline const char *reason_name(Reason reason) { return kReasonNames[static_cast<int>(reason)]; }
 
