@@ -14,18 +14,15 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "tests" / "eepa"), str(ROOT / "analysis")]
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-import matplotlib  # noqa: E402
+from tsg_cases.eepa_contact import INPUTS, Eepa, closed_form_restitution, cycle_motion, impact, reference_force
+from tsg_cases.launcher import LmpFailed, run_lmp
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from eepa_cases import (INPUTS, Eepa, closed_form_restitution, cycle_motion, impact,  # noqa: E402
-                        reference_force)
-from tsg_harness import LmpFailed, run_lmp  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 
 STOCK_TIMEOUT = 60  # s; the stock model's unbounded loop can hang

@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tsg_analysis.run_files import read_element_statistics
+from tsg_analysis.profiles import element_estimates
+from tsg_analysis.run_files import read_element_statistics, read_zones
 
 ROOT = Path(__file__).resolve().parents[2]
 SEEDS = (1009, 2003, 3001)
@@ -35,10 +36,9 @@ def run_case(out: Path, drive: str, seed: int, rpm: float = 600) -> tuple[np.nda
         command += ["-v", name, str(value)]
     proc = subprocess.run(command, capture_output=True, text=True, timeout=1200)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    stats = read_element_statistics(out / "elements.txt")
-    solid = stats.column("solid_fraction").mean(axis=0)
-    mass = stats.column("mass").sum(axis=0)
-    axial = (stats.column("mean_axial_velocity") * stats.column("mass")).sum(axis=0) / np.where(mass > 0, mass, 1)
+    estimates, _ = element_estimates(read_element_statistics(out / "elements.txt"), read_zones(out / "zones.txt"),
+                                     first_step=None)
+    solid, axial = (np.array([e.mean for e in estimates[name]]) for name in ("solid_fraction", "mean_axial_velocity"))
     return solid, axial
 
 

@@ -12,8 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from eepa_cases import INPUTS, MASS, Eepa, ReferenceContact
 from tsg_harness import run_lmp
+
+from tsg_cases.eepa_contact import INPUTS, MASS, Eepa, ReferenceContact
 
 # cohesive and plastic, undamped (e = 1) so that the walls return the spheres at the speed they
 # left with and the only dissipation is EEPA hysteresis and adhesion

@@ -4,9 +4,10 @@ import math
 import numpy as np
 import pytest
 
-from eepa_cases import (INPUTS, K1, Eepa, closed_form_restitution, cycle_motion, impact,
-                        reference_force)
 from tsg_harness import run_lmp
+
+from tsg_cases.eepa_contact import (INPUTS, K1, Eepa, closed_form_restitution, cycle_motion, impact,
+                                    reference_force)
 
 
 @pytest.mark.parametrize("plasticity_ratio", [0.2, 0.5, 0.8])
