@@ -4,18 +4,25 @@ from __future__ import annotations
 from pathlib import Path
 
 import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
-import numpy as np  # noqa: E402
+from .cross_section import BORE_RADIUS, CENTRE_DISTANCE, SolidFractionMap
+from .massflow import PlaneFlows, SteadyState
+from .profiles import QUANTITIES, ElementProfile, aligned_positions
+from .rtd import (
+    RTDComparison,
+    RTDStatistics,
+    cumulative_distribution,
+    histogram_edges,
+    open_dispersion_density,
+    rtd_histogram,
+    tanks_in_series_density,
+)
+from .run_files import MassFlowRecord, Zones
+from .uncertainty import Estimate
 
-from .cross_section import BORE_RADIUS, CENTRE_DISTANCE, SolidFractionMap  # noqa: E402
-from .massflow import PlaneFlows, SteadyState  # noqa: E402
-from .profiles import QUANTITIES, ElementProfile, aligned_positions  # noqa: E402
-from .rtd import (RTDComparison, RTDStatistics, cumulative_distribution, histogram_edges,  # noqa: E402
-                  open_dispersion_density, rtd_histogram, tanks_in_series_density)
-from .run_files import MassFlowRecord, Zones  # noqa: E402
-from .uncertainty import Estimate  # noqa: E402
+matplotlib.use("Agg")  # before the first figure: pyplot switches to it
 
 
 def _save(fig: plt.Figure, path: Path) -> Path:

@@ -28,8 +28,15 @@ from .parameters import read_run_parameters
 from .profiles import domain_throughput, element_estimates, element_profile, holdup_residence, zone_residence_times
 from .report_files import write_outputs
 from .rtd import compare_rtds, mean_residence, rtd_statistics
-from .run_files import (ELEMENT_TYPES, RTD_EXIT_REASONS, AnalysisInputError, read_element_statistics, read_massflow,
-                        read_residence, read_zones)
+from .run_files import (
+    ELEMENT_TYPES,
+    RTD_EXIT_REASONS,
+    AnalysisInputError,
+    read_element_statistics,
+    read_massflow,
+    read_residence,
+    read_zones,
+)
 from .snapshot import render_snapshot, screw_dumps_at
 from .uncertainty import difference
 
