@@ -3,9 +3,12 @@
 # the build needs nothing but CMake and a compiler).
 #
 # Inputs : LIGGGHTS_SOURCE_DIR (upstream tree, contains src/lammps.cpp)
-#          TSG_OVERLAY_DIR     (src-liggghts-eepa: our styles, patches/, contact_models.list)
+#          TSG_OVERLAY_DIR     (src-liggghts-eepa: our styles in feature folders, patches/,
+#                               contact/contact_models.list)
 # Outputs: TSG_STAGED_SRC      (patched upstream sources; generated style_*.h live there)
 #          TSG_UPSTREAM_SOURCES (list of upstream .cpp files to compile)
+#          TSG_OVERLAY_SOURCES, TSG_OVERLAY_HEADERS (our .cpp / .h files, in any folder below the overlay)
+#          TSG_OVERLAY_INCLUDE_DIRS (every overlay folder that holds one of them)
 #
 # Files are written only when their content changes, so re-configuring keeps timestamps and a
 # rebuild after touching one extension file recompiles only what depends on it.
@@ -19,6 +22,29 @@ function(tsg_write_if_different path content)
   endif()
   file(WRITE "${path}" "${content}")
 endfunction()
+
+# ---- 0. our overlay ----------------------------------------------------------------------------
+# Every .h and .cpp below src-liggghts-eepa/, in whatever folder (contact/, measure/, a new one, or
+# the top level). LIGGGHTS includes a style's header by its bare name (the generated style_*.h), so
+# the overlay stays one flat namespace, as if copied into upstream's src/: each of its folders is an
+# include directory, and no two files may share a name.
+file(GLOB_RECURSE TSG_OVERLAY_HEADERS CONFIGURE_DEPENDS "${TSG_OVERLAY_DIR}/*.h")
+file(GLOB_RECURSE TSG_OVERLAY_SOURCES CONFIGURE_DEPENDS "${TSG_OVERLAY_DIR}/*.cpp")
+list(SORT TSG_OVERLAY_HEADERS)
+list(SORT TSG_OVERLAY_SOURCES)
+set(TSG_OVERLAY_INCLUDE_DIRS "")
+set(overlay_names "")
+foreach(f IN LISTS TSG_OVERLAY_HEADERS TSG_OVERLAY_SOURCES)
+  get_filename_component(dir "${f}" DIRECTORY)
+  get_filename_component(name "${f}" NAME)
+  if(name IN_LIST overlay_names)
+    message(FATAL_ERROR "two files below ${TSG_OVERLAY_DIR} are named '${name}' (one is ${f}): the overlay is "
+                        "one flat namespace (LIGGGHTS includes headers by bare name); rename one")
+  endif()
+  list(APPEND overlay_names "${name}")
+  list(APPEND TSG_OVERLAY_INCLUDE_DIRS "${dir}")
+endforeach()
+list(REMOVE_DUPLICATES TSG_OVERLAY_INCLUDE_DIRS)
 
 # ---- 1. validate the upstream tree ------------------------------------------------------------
 if(NOT EXISTS "${LIGGGHTS_SOURCE_DIR}/src/lammps.cpp"
@@ -87,9 +113,16 @@ file(GLOB TSG_UPSTREAM_SOURCES "${TSG_STAGED_SRC}/*.cpp")
 
 # ---- 3. style headers ----------------------------------------------------------------------------
 # Upstream's Make.sh: style_<name>.h includes every <prefix>*.h that mentions <macro>.
-# Our overlay headers take part exactly like upstream ones.
-file(GLOB overlay_headers "${TSG_OVERLAY_DIR}/*.h")
+# Our overlay headers take part exactly like upstream ones; none may take an upstream header's name
+# (it would hide that header from every file that includes it).
 file(GLOB staged_headers "${TSG_STAGED_SRC}/*.h")
+foreach(h IN LISTS TSG_OVERLAY_HEADERS)
+  get_filename_component(name "${h}" NAME)
+  if(EXISTS "${TSG_STAGED_SRC}/${name}" AND NOT name MATCHES "^style_")
+    message(FATAL_ERROR "${h} has the name of an upstream LIGGGHTS header; change upstream with a patch "
+                        "(src-liggghts-eepa/patches) or rename the file")
+  endif()
+endforeach()
 set(style_table
   "ANGLE_CLASS|angle_|angle" "ATOM_CLASS|atom_vec_|atom" "BODY_CLASS|body_|body"
   "BOND_CLASS|bond_|bond" "COMMAND_CLASS||command" "COMPUTE_CLASS|compute_|compute"
@@ -104,7 +137,7 @@ set(style_table
   "SPH_KERNEL_CLASS|sph_kernel_|sph_kernel" "MESHMODULE_CLASS|mesh_module_|mesh_module"
   "MESHMOVER_CLASS|mesh_mover_|mesh_mover")
 
-set(all_headers ${staged_headers} ${overlay_headers})
+set(all_headers ${staged_headers} ${TSG_OVERLAY_HEADERS})
 # read every header once
 set(header_names "")
 foreach(h IN LISTS all_headers)
@@ -157,7 +190,7 @@ list(APPEND known_TANGENTIAL TANGENTIAL_OFF)
 list(APPEND known_COHESION COHESION_OFF)
 list(APPEND known_ROLLING ROLLING_OFF)
 
-set(whitelist_file "${TSG_OVERLAY_DIR}/contact_models.list")
+set(whitelist_file "${TSG_OVERLAY_DIR}/contact/contact_models.list")
 file(STRINGS "${whitelist_file}" whitelist_lines)
 set(combinations "")
 set(count 0)

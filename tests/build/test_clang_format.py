@@ -17,7 +17,7 @@ def our_cxx_files() -> list[Path]:
 
 def test_files_are_found():
     names = {p.relative_to(SOURCE).as_posix() for p in our_cxx_files()}
-    assert "src-liggghts-eepa/normal_model_eepa.h" in names
+    assert "src-liggghts-eepa/contact/normal_model_eepa.h" in names
     assert "src-liggghts-eepa/physics/eepa_law.h" in names
     assert "tests/unit/test_eepa_law.cpp" in names
 
