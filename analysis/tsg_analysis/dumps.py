@@ -111,9 +111,9 @@ def _parse_text_frame(chunk: str) -> ParticleFrame:
     items = {line.split(":")[1].split()[0]: i for i, line in enumerate(lines) if line.startswith("ITEM:")}
     n_atoms = int(lines[items["NUMBER"] + 1])
     box_line = lines[items["BOX"]].split()
-    flags = box_line[-3:]
+    x_flag, y_flag, z_flag = box_line[-3:]
     bounds = np.array([[float(w) for w in lines[items["BOX"] + k].split()[:2]] for k in (1, 2, 3)])
-    box = Box(bounds[:, 0], bounds[:, 1], tuple(flag == "pp" for flag in flags))
+    box = Box(bounds[:, 0], bounds[:, 1], (x_flag == "pp", y_flag == "pp", z_flag == "pp"))
     names_line, _, body = rows.partition("\n")
     names = names_line.split()
     with warnings.catch_warnings():

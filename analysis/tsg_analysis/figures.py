@@ -148,7 +148,7 @@ def plot_massflow_series(path: Path, label: str, record: MassFlowRecord, steady:
         if estimate is not None and estimate.detected_start is not None:
             ax.axvline(estimate.detected_start, color=line.get_color(), ls="--", lw=1,
                        label=f"{name} stationary from {estimate.detected_start:.3g} s (detected)")
-    if steady.reached:
+    if steady.start_time is not None:  # reached
         ax.axvspan(steady.start_time, steady.end_time, color="tab:green", alpha=0.1, label="steady window")
     ax.set_title(f"{label}: {'steady' if steady.reached else 'NOT steady'}", fontsize=10)
     ax.set_xlabel("t (s)")

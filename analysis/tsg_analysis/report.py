@@ -15,6 +15,7 @@ import math
 import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 
@@ -38,7 +39,9 @@ from .run_files import (
     read_zones,
 )
 from .snapshot import render_snapshot, screw_dumps_at
-from .uncertainty import difference
+from .uncertainty import Estimate, difference
+
+T = TypeVar("T")
 
 
 def _attempt(run: RunAnalysis, part: str, action: Callable[[], None]) -> bool:
@@ -49,6 +52,13 @@ def _attempt(run: RunAnalysis, part: str, action: Callable[[], None]) -> bool:
         run.missing.append((part, str(err)))
         return False
     return True
+
+
+def _need(value: T | None, reason: str) -> T:
+    """A part's input, or the reason the part cannot be produced."""
+    if value is None:
+        raise AnalysisInputError(reason)
+    return value
 
 
 def _slug(label: str) -> str:
@@ -98,7 +108,7 @@ def _decide_window(run: RunAnalysis, settings: Settings) -> None:
     run.clock = step_clock(run.massflow)
     run.steady = decide_steady_state(run.massflow, _steady_window(run, settings), settings.steady_tolerance)
     if run.steady.reached:
-        run.window = (run.steady.start_time, run.steady.end_time)
+        run.window = (_need(run.steady.start_time, "steady state reached at an unknown time"), run.steady.end_time)
     elif not settings.require_steady:
         run.window, run.transient = (-math.inf, math.inf), True
 
@@ -114,20 +124,21 @@ def _require_window(run: RunAnalysis) -> tuple[float, float]:
 def _rtd_selection(run: RunAnalysis) -> np.ndarray:
     """Particles that left through the outlet (or made a periodic pass) inside the window."""
     low, high = _require_window(run)
-    records = run.records
+    records = _need(run.records, "no usable residence.txt")
     return np.isin(records.exit_reason, RTD_EXIT_REASONS) & (records.exit_time > low) & (records.exit_time <= high)
 
 
 def _analyse_rtd(run: RunAnalysis) -> None:
     selected = _rtd_selection(run)
-    samples = {"total": run.records.residence_time[selected]}
+    records = _need(run.records, "no usable residence.txt")
+    samples = {"total": records.residence_time[selected]}
     types = run.zones.types_present if run.zones is not None else [
-        t for t in ELEMENT_TYPES if np.any(run.records.time_by_type[t] > 0)]
-    samples.update({t: run.records.time_by_type[t][selected] for t in types})
+        t for t in ELEMENT_TYPES if np.any(records.time_by_type[t] > 0)]
+    samples.update({t: records.time_by_type[t][selected] for t in types})
     if not selected.any():
         raise AnalysisInputError("no complete residence record (outlet or pass) inside the averaging window: "
                                  "the window is shorter than a pass")
-    exits = run.records.exit_time[selected]
+    exits = records.exit_time[selected]
     run.rtd_means = {scope: mean_residence(times, exits) for scope, times in samples.items()}
     run.rtd_stats["total"] = rtd_statistics(samples["total"], f"{run.label}: total RTD")
     run.rtd_samples["total"] = samples.pop("total")
@@ -138,45 +149,45 @@ def _analyse_rtd(run: RunAnalysis) -> None:
 
 
 def _analyse_profile(run: RunAnalysis) -> None:
-    if run.zones is None:
-        raise AnalysisInputError("zones.txt is needed to name the elements")
+    zones = _need(run.zones, "zones.txt is needed to name the elements")
     low, _ = _require_window(run)
-    first_step = None if run.transient else run.clock.step(low)
-    estimates, blocks, records = {}, 0, 0
+    first_step = None if run.transient else _need(run.clock, "the steady window's first step is unknown without massflow.txt").step(low)
+    estimates: dict[str, list[Estimate]] = {}
+    blocks, records = 0, 0
 
     def from_elements() -> None:
         nonlocal blocks
         stats = read_element_statistics(run.run_dir / "elements.txt")
         run.notes.extend(stats.issues)
         times = run.clock.time(stats.timesteps) if run.clock is not None else stats.timesteps.astype(float)
-        by_zone, used = element_estimates(stats, run.zones, first_step, times)
+        by_zone, used = element_estimates(stats, zones, first_step, times)
         estimates.update(by_zone)
         blocks = int(used.sum())
-        run.holdup_residence = holdup_residence(stats, run.zones, used, times)
-        run.throughput = domain_throughput(stats, run.zones, used, times)
+        run.holdup_residence = holdup_residence(stats, zones, used, times)
+        run.throughput = domain_throughput(stats, zones, used, times)
 
     def from_residence() -> None:
         nonlocal records
-        if run.records is None:
-            raise AnalysisInputError("no usable residence.txt")
         selected = _rtd_selection(run)
-        estimates["residence_time"] = zone_residence_times(run.records, run.zones, selected)
+        estimates["residence_time"] = zone_residence_times(_need(run.records, "no usable residence.txt"), zones, selected)
         records = int(selected.sum())
 
     produced = [_attempt(run, "element profiles: solid fraction and velocities", from_elements),
                 _attempt(run, "element profiles: residence time per element", from_residence)]
     if any(produced):
-        run.profile = element_profile(run.zones, estimates, blocks, records)
+        run.profile = element_profile(zones, estimates, blocks, records)
 
 
 def _frames_in_window(run: RunAnalysis, paths: list[Path], issues: list[str]) -> Iterator[tuple[ParticleFrame, float]]:
     """Dump frames inside the window with their times (VTK files are skipped by name, unread)."""
-    low, high = run.window
+    low, high = _require_window(run)
+    clock = run.clock if run.transient else _need(run.clock, "the dump frames' times are unknown without massflow.txt")
     for path in paths:
-        if path.suffix == ".vtk" and not run.transient and not low <= run.clock.time(step_from_name(path)) <= high:
+        if path.suffix == ".vtk" and clock is not None and not run.transient and \
+                not low <= clock.time(step_from_name(path)) <= high:
             continue
         for frame in iter_frames([path], issues):
-            time = float(run.clock.time(frame.step)) if run.clock is not None else float(frame.step)
+            time = float(clock.time(frame.step)) if clock is not None else float(frame.step)
             if run.transient or low <= time <= high:
                 yield frame, time
 
@@ -216,7 +227,7 @@ def _analyse_dumps(run: RunAnalysis, settings: Settings) -> None:
             raise AnalysisInputError(f"none of the {len(paths)} dump files has a frame inside the averaging window")
         run.maps = accumulator.maps()
         if counter is None:
-            run.missing.append(("mass flow through zone boundaries", counter_problem))
+            run.missing.append(("mass flow through zone boundaries", str(counter_problem)))
         else:
             _attempt(run, "mass flow through zone boundaries", lambda: setattr(run, "plane_flows", counter.result()))
 
@@ -285,7 +296,7 @@ def _snapshot(run: RunAnalysis, last_dump: Path, settings: Settings) -> None:
 
 def _sensor_flows(run: RunAnalysis) -> dict:
     low, high = _require_window(run)
-    return sensor_flows(run.massflow, None if run.transient else low, None if run.transient else high)
+    return sensor_flows(_need(run.massflow, "no usable massflow.txt"), None if run.transient else low, None if run.transient else high)
 
 
 def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) -> RunAnalysis:
@@ -297,14 +308,16 @@ def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) ->
     _attempt(run, "run log", lambda: _read_log(run))
     _attempt(run, "run parameters", lambda: setattr(run, "parameters", read_run_parameters(run.run_dir)))
     _attempt(run, "zones", lambda: setattr(run, "zones", read_zones(run.run_dir / "zones.txt")))
-    if _attempt(run, "steady state", lambda: _decide_window(run, settings)):
+    decided = _attempt(run, "steady state", lambda: _decide_window(run, settings))
+    if decided and run.massflow is not None and run.steady is not None:
         _attempt(run, "mean sensor flows", lambda: setattr(run, "sensor_flows", _sensor_flows(run)))
         run.figures["massflow"] = f"{slug}_massflow.png"
         figures.plot_massflow_series(out_dir / run.figures["massflow"], label, run.massflow, run.steady,
                                      run.sensor_flows)
     elif not settings.require_steady:
         run.window, run.transient = (-math.inf, math.inf), True
-    if _attempt(run, "residence records", lambda: setattr(run, "records", read_residence(run.run_dir / "residence.txt"))):
+    read = _attempt(run, "residence records", lambda: setattr(run, "records", read_residence(run.run_dir / "residence.txt")))
+    if read and run.records is not None:
         run.notes.extend(run.records.issues)
         if _attempt(run, "RTD", lambda: _analyse_rtd(run)):
             run.figures["rtd"] = f"{slug}_rtd.png"
@@ -314,7 +327,7 @@ def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) ->
     if run.maps:
         run.figures["cross_sections"] = f"{slug}_cross_sections.png"
         figures.plot_cross_sections(out_dir / run.figures["cross_sections"], label, run.maps)
-    if run.plane_flows is not None:
+    if run.plane_flows is not None and run.zones is not None:
         run.figures["plane_flows"] = f"{slug}_plane_flows.png"
         figures.plot_plane_flows(out_dir / run.figures["plane_flows"], label, run.plane_flows, run.zones)
     return run
@@ -353,12 +366,12 @@ def build_report(run_dirs: list[Path], out_dir: Path, labels: list[str] | None =
     with_rtd = [run for run in runs if run.rtd_samples]
     if len(runs) > 1:
         if len(with_rtd) > 1:
-            reference = with_rtd[0]
+            first_rtd = with_rtd[0]
             for run in with_rtd[1:]:
-                for scope in reference.rtd_samples:
+                for scope in first_rtd.rtd_samples:
                     if scope in run.rtd_samples:
-                        report.comparisons.append((reference.label, run.label, compare_rtds(
-                            reference.rtd_samples[scope], run.rtd_samples[scope], scope)))
+                        report.comparisons.append((first_rtd.label, run.label, compare_rtds(
+                            first_rtd.rtd_samples[scope], run.rtd_samples[scope], scope)))
             report.figures["rtd_comparison"] = "rtd_comparison.png"
             figures.plot_rtd_comparison(out_dir / "rtd_comparison.png",
                                         [(run.label, run.rtd_samples) for run in with_rtd],

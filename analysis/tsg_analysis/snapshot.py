@@ -26,8 +26,8 @@ def screw_dumps_at(run_dir: Path, step: int) -> list[Path]:
 def render_snapshot(frame: ParticleFrame, out_png: Path, mesh_paths: Sequence[Path] = (),
                     time: float | None = None, posed: bool = False,
                     window_size: tuple[int, int] = (1600, 700)) -> Path:
-    """`posed`: the meshes are in their pose at the frame's step (screw dumps), not as built."""
-    """Top view (looking down −z) of the particles of one frame, coloured by vx."""
+    """Top view (looking down −z) of the particles of one frame, coloured by vx. `posed`: the meshes
+    are in their pose at the frame's step (screw dumps), not as built."""
     import pyvista as pv  # heavy import: only the snapshot needs VTK rendering
 
     frame.require("x", "y", "z", "vx")
@@ -37,12 +37,14 @@ def render_snapshot(frame: ParticleFrame, out_png: Path, mesh_paths: Sequence[Pa
     cloud.point_data["vx (m/s)"] = frame.columns["vx"]
     limit = float(np.percentile(np.abs(frame.columns["vx"]), 98)) or 1.0
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-    plotter.set_background("white")
+    plotter.set_background("white")  # type: ignore[arg-type]  # pyvista's decorator stub hides `self`
     for path in mesh_paths:
         try:
             mesh = pv.read(path)
         except Exception as err:  # VTK reports damaged files with assorted exception types
             raise AnalysisInputError(f"{path}: cannot be read as a mesh ({err})") from None
+        if not isinstance(mesh, pv.DataSet):
+            raise AnalysisInputError(f"{path}: holds a {type(mesh).__name__}, not a surface mesh")
         if "barrel" in Path(path).name:
             plotter.add_mesh(mesh, color="lightgrey", opacity=0.12)
             continue
@@ -54,7 +56,7 @@ def render_snapshot(frame: ParticleFrame, out_png: Path, mesh_paths: Sequence[Pa
     if mesh_paths:
         caption += ", screws as dumped at this step" if posed else ", screws drawn as built (no screw dump: pose unknown)"
     plotter.add_text(caption, font_size=10, color="black")
-    plotter.view_xy()
+    plotter.view_xy()  # type: ignore[call-arg]  # pyvista's decorator stub hides `self`
     plotter.camera.zoom(1.3)
     out_png = Path(out_png)
     plotter.screenshot(str(out_png))
