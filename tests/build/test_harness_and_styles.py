@@ -23,7 +23,7 @@ STYLE_MACROS = {  # macro in our headers -> heading of its section in `lmp -h`
 
 def our_styles() -> list[tuple[str, str]]:
     found = []
-    for header in sorted(OVERLAY.glob("*.h")):
+    for header in sorted(OVERLAY.rglob("*.h")):
         for macro, section in STYLE_MACROS.items():
             for match in re.finditer(rf"^{macro}\((?:[A-Z0-9_]+,\s*)?([\w/]+)\s*[,)]", header.read_text(), re.M):
                 found.append((section, match.group(1)))
@@ -47,7 +47,7 @@ def help_sections() -> dict[str, set[str]]:
 
 def test_every_extension_style_is_listed_by_lmp_help():
     styles = our_styles()
-    assert styles, f"no style macros found in {OVERLAY}/*.h"
+    assert styles, f"no style macros found in {OVERLAY}/**/*.h"
     sections = help_sections()
     for section, name in styles:
         matching = [s for s in sections if s.startswith(section)]
@@ -56,7 +56,7 @@ def test_every_extension_style_is_listed_by_lmp_help():
 
 
 def whitelist() -> list[tuple[str, ...]]:
-    lines = (OVERLAY / "contact_models.list").read_text().splitlines()
+    lines = (OVERLAY / "contact" / "contact_models.list").read_text().splitlines()
     return [tuple(p.strip() for p in m.group(1).split(","))
             for m in (re.match(r"GRAN_MODEL\((.*)\)", l) for l in lines) if m]
 
@@ -64,7 +64,7 @@ def whitelist() -> list[tuple[str, ...]]:
 def model_keywords() -> dict[str, str]:
     """Model id (HERTZ, ROLLING_CDT, ...) -> input keyword, read from the registration macros."""
     keywords = {"TANGENTIAL_OFF": "off", "COHESION_OFF": "off", "ROLLING_OFF": "off"}
-    for header in list((BUILD / "liggghts" / "src").glob("*_model_*.h")) + list(OVERLAY.glob("*_model_*.h")):
+    for header in list((BUILD / "liggghts" / "src").glob("*_model_*.h")) + list(OVERLAY.rglob("*_model_*.h")):
         for m in re.finditer(r"^[A-Z]+_MODEL\(([A-Z0-9_]+),\s*([\w/]+),", header.read_text(), re.M):
             keywords[m.group(1)] = m.group(2)
     return keywords
