@@ -54,6 +54,22 @@ tmesh::Triangle make_triangle(const double a[3], const double b[3], const double
   return t;
 }
 
+// the surface z = height(x, y) over nx x ny squares of side h from the origin, two triangles each
+template <class Height>
+std::vector<tmesh::Triangle> height_field(int nx, int ny, double h, Height height)
+{
+  std::vector<tmesh::Triangle> tris;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      const double x0 = i * h, x1 = (i + 1) * h, y0 = j * h, y1 = (j + 1) * h;
+      const double p00[3] = {x0, y0, height(x0, y0)}, p10[3] = {x1, y0, height(x1, y0)};
+      const double p01[3] = {x0, y1, height(x0, y1)}, p11[3] = {x1, y1, height(x1, y1)};
+      tris.push_back(make_triangle(p00, p10, p11));
+      tris.push_back(make_triangle(p00, p11, p01));
+    }
+  return tris;
+}
+
 // distance from p to the triangle by dense sampling of barycentric coordinates (independent)
 double sampled_distance(const tmesh::Triangle &t, const double p[3], int samples = 600)
 {
@@ -197,20 +213,10 @@ TEST(TriangleContact, InactiveEdgesAndCornersAreLeftToTheirOwner)
 TEST(TriangleTree, VisitsEveryTriangleWithinReachOnce)
 {
   // a wavy surface of 2 x 40 x 40 triangles
-  std::vector<tmesh::Triangle> tris;
   const int n = 40;
   const double h = 0.25e-3;
-  auto z = [](double x, double y) {
-    return 0.5e-3 * std::sin(3000 * x) * std::cos(2000 * y);
-  };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const double p00[3] = {i * h, j * h, z(i * h, j * h)}, p10[3] = {(i + 1) * h, j * h, z((i + 1) * h, j * h)};
-      const double p01[3] = {i * h, (j + 1) * h, z(i * h, (j + 1) * h)};
-      const double p11[3] = {(i + 1) * h, (j + 1) * h, z((i + 1) * h, (j + 1) * h)};
-      tris.push_back(make_triangle(p00, p10, p11));
-      tris.push_back(make_triangle(p00, p11, p01));
-    }
+  const std::vector<tmesh::Triangle> tris =
+      height_field(n, n, h, [](double x, double y) { return 0.5e-3 * std::sin(3000 * x) * std::cos(2000 * y); });
   tmesh::TriangleTree tree;
   tree.build(tris);
   std::mt19937_64 rng(21);
@@ -247,19 +253,8 @@ TEST(TriangleTree, VisitsEveryTriangleWithinReachOnce)
 TEST(TriangleTree, ClearanceIsALowerBoundWithinTheBoundingSpheres)
 {
   // a tilted, folded strip of 2 x 30 x 10 triangles; points near it and far from it
-  std::vector<tmesh::Triangle> tris;
-  const double h = 0.3e-3;
-  auto z = [](double x, double y) {
-    return 0.2 * x + (y > 1.5e-3 ? 0.5 * (y - 1.5e-3) : 0.0);
-  };
-  for (int i = 0; i < 30; ++i)
-    for (int j = 0; j < 10; ++j) {
-      const double p00[3] = {i * h, j * h, z(i * h, j * h)}, p10[3] = {(i + 1) * h, j * h, z((i + 1) * h, j * h)};
-      const double p01[3] = {i * h, (j + 1) * h, z(i * h, (j + 1) * h)};
-      const double p11[3] = {(i + 1) * h, (j + 1) * h, z((i + 1) * h, (j + 1) * h)};
-      tris.push_back(make_triangle(p00, p10, p11));
-      tris.push_back(make_triangle(p00, p11, p01));
-    }
+  const std::vector<tmesh::Triangle> tris = height_field(
+      30, 10, 0.3e-3, [](double x, double y) { return 0.2 * x + (y > 1.5e-3 ? 0.5 * (y - 1.5e-3) : 0.0); });
   tmesh::TriangleTree tree;
   tree.build(tris);
   std::mt19937_64 rng(5);
