@@ -6,7 +6,7 @@ from __future__ import annotations
 import struct
 
 from badinput import BadInput
-from eepa.eepa_cases import INPUTS, Eepa
+from tsg_cases.eepa_contact import INPUTS, Eepa
 
 # ---- EEPA properties ------------------------------------------------------------------------------
 IMPACT = (INPUTS / "in.two_sphere_impact").read_text()
