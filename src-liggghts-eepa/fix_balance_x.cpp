@@ -56,11 +56,6 @@ int FixBalanceX::setmask() { return FixConst::PRE_EXCHANGE; }
 void FixBalanceX::init()
 {
   if (domain->triclinic) fail(lmp, who_, "needs an orthogonal box (triclinic boxes are not supported)");
-  const double length = domain->prd[0];
-  if (static_cast<double>(parts_) * neighbor->cutneighmax > length)
-    fail(lmp, who_,
-         std::to_string(parts_) + " slabs of at least the neighbour cutoff " + number(neighbor->cutneighmax) +
-             " m do not fit in the box length " + number(length) + " m along x: use fewer ranks");
 }
 
 void FixBalanceX::setup_pre_exchange()
@@ -83,6 +78,11 @@ void FixBalanceX::move_cuts()
 {
   if (parts_ == 1) return;
   const double lo = domain->boxlo[0], hi = domain->boxhi[0], length = domain->prd[0];
+  // (checked here, not in init(): the neighbour cutoff is set after the fixes' init)
+  if (static_cast<double>(parts_) * neighbor->cutneighmax > length)
+    fail(lmp, who_,
+         std::to_string(parts_) + " slabs of at least the neighbour cutoff " + number(neighbor->cutneighmax) +
+             " m do not fit in the box length " + number(length) + " m along x: use fewer ranks");
   const auto nbins = static_cast<std::size_t>(kBinsPerRank) * static_cast<std::size_t>(parts_);
   std::vector<double> mine(nbins, 0.0), all(nbins, 0.0);
   double **x = atom->x;

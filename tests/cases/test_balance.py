@@ -104,14 +104,14 @@ def test_cuts_follow_a_moving_fill(tmp_path, xbound):
 # ---- same particles, same forces, same contact histories -----------------------------------------
 
 def run_screw_paths(workdir: Path, mesh_dir: Path, atoms: str, *, drive: str, nprocs: int, balance_every: int,
-                    nsteps: int = 300, restart_every: int = 0, restart_from: Path | None = None):
-    """tests/cases/inputs/in.corotating_paths with a `processors * 1 1` grid and, if balance_every > 0,
-    fix balance/x; returns (run, dump frames)."""
+                    nsteps: int = 300, restart_every: int = 0, restart_from: Path | None = None, extra: str = ""):
+    """tests/cases/inputs/in.corotating_paths with a `processors * 1 1` grid, if balance_every > 0 fix
+    balance/x, and the commands `extra` after the walls; returns (run, dump frames)."""
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "atoms.in").write_text(atoms)
     start = INPUTS / ("start_restart.in" if restart_from else "start_fresh.in")
     (workdir / "start.in").write_text("processors * 1 1\n" + start.read_text())
-    drive_text = (INPUTS / f"drive_{drive}.in").read_text()
+    drive_text = (INPUTS / f"drive_{drive}.in").read_text() + "\n" + extra
     if balance_every > 0:
         drive_text += f"\nfix bal all balance/x {balance_every}\n"
         drive_text += "thermo_style custom step atoms f_bal " + " ".join(f"f_bal[{k}]" for k in range(1, nprocs + 2))

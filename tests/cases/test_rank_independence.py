@@ -1,0 +1,81 @@
+"""Rank-count independence (issue 17 item 4) where the dynamics are deterministic: particles on
+prescribed paths among the periodic screws (as in test_corotating.py), so that the same particle
+crosses the same plane at the same time whatever the decomposition.
+
+- residence records (fix residence/time) are the same numbers on 1, 2 and 4 ranks, the 4-rank run
+  with its cuts moving (fix balance/x); the mass-flow sensors (fix massflow/planes) agree to the
+  rounding of their cross-rank sums;
+- a restart written on 2 ranks continues on 4 (with moving cuts) as the unbroken 2-rank run.
+The statistical comparison of free-flowing runs at 1, 2, 4, 8 ranks: benchmarks/rank_independence.py.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from test_balance import crowded_atoms, run_screw_paths
+from test_corotating import PERIODIC_LENGTH, atoms_in_bores, compare, periodic_meshes  # noqa: F401
+
+# mass-flow planes every 2 mm: a particle moving 3 m/s for 600 steps of 2 us (3.6 mm) crosses one or two
+PLANES = np.arange(0.001, PERIODIC_LENGTH, 0.002)
+NSTEPS = 600
+WINDOW = 100
+
+
+def measures(mesh_dir: Path) -> str:
+    planes = " ".join(f"{x:.6f}" for x in PLANES)
+    return (f"fix rt all residence/time zones {mesh_dir}/zones.txt records residence.txt periodic 0.03 inside yes\n"
+            f"fix mf all massflow/planes planes {len(PLANES)} {planes} window {WINDOW} file massflow.txt\n")
+
+
+def records(path: Path) -> list[list[float]]:
+    """Records sorted by particle id, as numbers (reason as its text)."""
+    rows = [line.split() for line in path.read_text().splitlines() if line and not line.startswith("#")]
+    return sorted(rows, key=lambda r: (int(r[0]), r[1:]))
+
+
+def sensor_rates(path: Path) -> np.ndarray:
+    return np.array([[float(v) for v in line.split()] for line in path.read_text().splitlines()
+                     if line and not line.startswith("#")])
+
+
+def test_records_and_sensors_do_not_depend_on_the_rank_count(tmp_path, periodic_meshes):
+    atoms = atoms_in_bores(np.random.default_rng(23), 800, [(0.0, PERIODIC_LENGTH / 2)])
+    results = {}
+    for nprocs, balance_every in ((1, 0), (2, 0), (4, 50)):
+        workdir = tmp_path / f"np{nprocs}"
+        run, _ = run_screw_paths(workdir, periodic_meshes, atoms, drive="corotating", nprocs=nprocs,
+                                 balance_every=balance_every, nsteps=NSTEPS, extra=measures(periodic_meshes))
+        results[nprocs] = (records(workdir / "residence.txt"), sensor_rates(workdir / "massflow.txt"), run)
+    reference_records, reference_rates, _ = results[1]
+    # every particle is inside at the end (inside yes) and some finished a pass through x = 0.03
+    assert len(reference_records) >= 800
+    assert any(r[4] == "pass" for r in reference_records), "no complete pass: the test would not see one"
+    assert len(reference_rates) == NSTEPS // WINDOW
+    assert np.count_nonzero(reference_rates[:, 2:]) >= 20, "too few plane crossings to compare"
+    for nprocs in (2, 4):
+        rows, rates, _ = results[nprocs]
+        assert rows == reference_records, f"{nprocs} ranks: residence records differ"
+        np.testing.assert_array_equal(rates[:, 0], reference_rates[:, 0])
+        scale = np.abs(reference_rates[:, 2:]).max()
+        np.testing.assert_allclose(rates[:, 2:], reference_rates[:, 2:], rtol=0, atol=1e-12 * scale)
+    cuts_moved = results[4][2].thermo[-1]["bal[3]"]
+    assert abs(cuts_moved[-1] - PERIODIC_LENGTH / 2) > PERIODIC_LENGTH / 16  # the 4-rank cuts did move
+
+
+def test_restart_written_on_2_ranks_continues_on_4(tmp_path, periodic_meshes):
+    atoms = crowded_atoms(17)
+    _, whole = run_screw_paths(tmp_path / "whole", periodic_meshes, atoms, drive="corotating", nprocs=2,
+                               balance_every=25, restart_every=150)
+    restart = tmp_path / "whole" / "restart.150"
+    assert restart.exists()
+    run, continued = run_screw_paths(tmp_path / "continued", periodic_meshes, "", drive="corotating", nprocs=4,
+                                     balance_every=25, nsteps=150, restart_from=restart)
+    assert "4 by 1 by 1 MPI processor grid" in run.log
+    assert continued[0][0] == 150 and continued[-1][0] == 300
+    result = compare(whole, continued, first_step=151)
+    print("restart 2 -> 4 ranks:", result)
+    assert result["contacts"] > 500
+    assert result["relative"] <= 1e-12 and result["absolute"] <= 1e-14, result
