@@ -33,7 +33,8 @@ FixBalanceX::FixBalanceX(LAMMPS *lmp, int narg, char **arg)
     fail(lmp, who_,
          std::string("needs one argument, the balancing interval N in steps (an integer >= 1), got '") +
              (narg > 3 ? arg[3] : "") + (narg > 4 ? " ..." : "") + "'");
-  if (igroup != 0) fail(lmp, who_, std::string("group '") + arg[1] + "' is not allowed: the work is all particles, use group all");
+  if (igroup != 0)
+    fail(lmp, who_, std::string("group '") + arg[1] + "' is not allowed: the work is all particles, use group all");
   every_ = static_cast<int>(every);
   if (comm->procgrid[1] != 1 || comm->procgrid[2] != 1)
     fail(lmp, who_,
@@ -116,7 +117,4 @@ double FixBalanceX::compute_scalar()
   return total > 0 ? largest * comm->nprocs / total : 1.0;
 }
 
-double FixBalanceX::compute_vector(int k)
-{
-  return domain->boxlo[0] + domain->prd[0] * comm->xsplit[k];
-}
+double FixBalanceX::compute_vector(int k) { return domain->boxlo[0] + domain->prd[0] * comm->xsplit[k]; }
