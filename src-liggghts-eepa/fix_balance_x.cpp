@@ -41,9 +41,12 @@ FixBalanceX::FixBalanceX(LAMMPS *lmp, int narg, char **arg)
          "the processor grid is " + std::to_string(comm->procgrid[0]) + " x " + std::to_string(comm->procgrid[1]) +
              " x " + std::to_string(comm->procgrid[2]) +
              "; balance along x needs slabs along x only: 'processors * 1 1' (or N 1 1) before the box is made");
-  box_change_domain = 1;
-  force_reneighbor = 1;
-  next_reneighbor = (update->ntimestep / every_ + 1) * every_;
+  // one rank: nothing to move, and nothing to make LIGGGHTS redo on every re-neighbouring
+  if (parts_ > 1) {
+    box_change_domain = 1;
+    force_reneighbor = 1;
+    next_reneighbor = (update->ntimestep / every_ + 1) * every_;
+  }
   scalar_flag = 1;
   extscalar = 0;
   vector_flag = 1;
@@ -61,13 +64,14 @@ void FixBalanceX::init()
 
 void FixBalanceX::setup_pre_exchange()
 {
+  if (parts_ == 1) return;
   next_reneighbor = (update->ntimestep / every_ + 1) * every_;
   move_cuts();
 }
 
 void FixBalanceX::pre_exchange()
 {
-  if (update->ntimestep < next_reneighbor) return;
+  if (parts_ == 1 || update->ntimestep < next_reneighbor) return;
   next_reneighbor = (update->ntimestep / every_ + 1) * every_;
   move_cuts();
 }
@@ -77,7 +81,6 @@ void FixBalanceX::pre_exchange()
 // exchanges particles, and fix mesh/surface the triangles, for the new sub-domains.
 void FixBalanceX::move_cuts()
 {
-  if (parts_ == 1) return;
   const double lo = domain->boxlo[0], hi = domain->boxhi[0], length = domain->prd[0];
   // (checked here, not in init(): the neighbour cutoff is set after the fixes' init)
   if (static_cast<double>(parts_) * neighbor->cutneighmax > length)

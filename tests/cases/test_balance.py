@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from test_corotating import INPUTS, PERIODIC_LENGTH, atoms_in_bores, compare, periodic_meshes, read_dump  # noqa: F401
+from test_corotating import (ABSOLUTE_SHARE, INPUTS, PERIODIC_LENGTH, RELATIVE, atoms_in_bores, compare,  # noqa: F401
+                             periodic_meshes, read_dump)
 from tsg_harness import run_lmp
 
 # ---- cuts follow a moving fill ------------------------------------------------------------------
@@ -141,12 +142,13 @@ def test_moving_cuts_change_no_force(tmp_path, periodic_meshes, drive):
     for the same particles: contacts with the screws (turned by fix wall/gran/corotating or by fix
     move/mesh) and the static barrel, whose triangles LIGGGHTS re-distributes as the cuts move.
 
-    The 1-rank reference has the fix too (one rank: no cut to move) so that both re-neighbour on the
-    same steps: the stock path's forces depend on the re-neighbouring steps by up to 2e-10 relative
-    (measured: 1 rank with and without the fix, which re-neighbours every 25 steps and marks the
-    sub-domains as changing; the corotating path showed no difference at all; docs/parallel.md)."""
+    Corotating: equal to the last bit's rounding. Stock: the stock path's forces depend on the steps
+    on which it re-neighbours and on LIGGGHTS treating the sub-domains as changing (what the fix asks
+    for), not on the cuts: measured, a 1-rank run with the fix forced to act as on 4 ranks (no cut to
+    move) differs from the plain 1-rank run by the same 1.738e-10 relative as the 4-rank balanced run
+    does (docs/parallel.md); the bound is the one test_corotating.py allows the stock path."""
     atoms = crowded_atoms(13)
-    _, serial = run_screw_paths(tmp_path / "np1", periodic_meshes, atoms, drive=drive, nprocs=1, balance_every=25)
+    _, serial = run_screw_paths(tmp_path / "np1", periodic_meshes, atoms, drive=drive, nprocs=1, balance_every=0)
     run, balanced = run_screw_paths(tmp_path / "np4", periodic_meshes, atoms, drive=drive, nprocs=4,
                                     balance_every=25)
     thermo = run.thermo[-1]
@@ -159,4 +161,5 @@ def test_moving_cuts_change_no_force(tmp_path, periodic_meshes, drive):
     result = compare(serial, balanced, first_step=0)
     print(f"{drive}: {result}; cuts at the end {cuts[:, -1]}; imbalance {thermo['bal'][0]} -> {thermo['bal'][-1]}")
     assert result["contacts"] > 1000
-    assert result["relative"] <= 1e-12 and result["absolute"] <= 1e-14, result
+    relative, absolute = (1e-12, 1e-14) if drive == "corotating" else (RELATIVE, ABSOLUTE_SHARE)
+    assert result["relative"] <= relative and result["absolute"] <= absolute, result
