@@ -4,7 +4,7 @@ moving cuts, alternately, for each rank count.
 
     .venv/bin/python benchmarks/balance.py --case periodic --np 2 4 --out runs/balance [--time 0.005]
     .venv/bin/python benchmarks/balance.py --case full --feed-at element:7 --np 2 4 --out runs/balance-full \
-        --time 0.005 [-v feed_rate_kg_h 144]
+        --time 0.005 [--mesh-tolerance 5e-5] [-v feed_rate_kg_h 144]
 
 Each run is `tsg_cases.run_case <case> --scale demo` with a short simulated time (periodic: the
 start-up only, --time s, and a sampling window of one thermo interval; full: the start-up loop
@@ -48,9 +48,11 @@ def measure(log: str) -> Measured:
 
 
 def run(case: str, out: Path, nprocs: int, balance_every: int, seconds: float, feed_at: str | None,
-        extra: list[tuple[str, str]]) -> Measured:
+        mesh_tolerance: float | None, extra: list[tuple[str, str]]) -> Measured:
     command = [sys.executable, "-m", "tsg_cases.run_case", case, "--scale", "demo", "--out", str(out),
                "--np", str(nprocs), "-v", "balance_every", str(balance_every)]
+    if mesh_tolerance:
+        command += ["--mesh-tolerance", str(mesh_tolerance)]
     if case == "periodic":
         command += ["-v", "t_startup", str(seconds), "-v", "t_sample", str(seconds / 10)]
     else:
@@ -75,6 +77,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--time", type=float, default=0.005, help="simulated seconds per run")
     parser.add_argument("--balance-every", type=int, default=1000)
     parser.add_argument("--feed-at", default=None)
+    parser.add_argument("--mesh-tolerance", type=float, default=None, help="m, instead of the demo scale's")
     parser.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"))
     args = parser.parse_args(argv)
     if args.time <= 0:
@@ -88,7 +91,7 @@ def main(argv: list[str] | None = None) -> int:
         for every in (0, args.balance_every):
             label = "equal slabs" if every == 0 else f"balance/x every {every}"
             results[every] = run(args.case, args.out / f"np{nprocs}-b{every}", nprocs, every, args.time, args.feed_at,
-                                 args.var)
+                                 args.mesh_tolerance, args.var)
             print(f"np {nprocs}, {label:22s}: {results[every].line()}", flush=True)
         ratio = results[args.balance_every].loop_seconds / results[0].loop_seconds
         print(f"np {nprocs}: loop time balanced / equal slabs = {ratio:.2f}", flush=True)
