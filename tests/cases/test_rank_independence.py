@@ -30,8 +30,8 @@ def measures(mesh_dir: Path) -> str:
             f"fix mf all massflow/planes planes {len(PLANES)} {planes} window {WINDOW} file massflow.txt\n")
 
 
-def records(path: Path) -> list[list[float]]:
-    """Records sorted by particle id, as numbers (reason as its text)."""
+def records(path: Path) -> list[list[str]]:
+    """Records sorted by particle id, the fields as written."""
     rows = [line.split() for line in path.read_text().splitlines() if line and not line.startswith("#")]
     return sorted(rows, key=lambda r: (int(r[0]), r[1:]))
 
@@ -50,9 +50,9 @@ def test_records_and_sensors_do_not_depend_on_the_rank_count(tmp_path, periodic_
                                  balance_every=balance_every, nsteps=NSTEPS, extra=measures(periodic_meshes))
         results[nprocs] = (records(workdir / "residence.txt"), sensor_rates(workdir / "massflow.txt"), run)
     reference_records, reference_rates, _ = results[1]
-    # every particle is inside at the end (inside yes) and some finished a pass through x = 0.03
-    assert len(reference_records) >= 800
-    assert any(r[4] == "pass" for r in reference_records), "no complete pass: the test would not see one"
+    # the particles that crossed x = 0.03 (a periodic pass starts there) have an "inside" record at the
+    # end (inside yes): entry time, time so far, time per zone type and per zone
+    assert len(reference_records) >= 40, "too few particles entered: the test would compare little"
     assert len(reference_rates) == NSTEPS // WINDOW
     assert np.count_nonzero(reference_rates[:, 2:]) >= 20, "too few plane crossings to compare"
     for nprocs in (2, 4):
