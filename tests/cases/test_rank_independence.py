@@ -66,16 +66,27 @@ def test_records_and_sensors_do_not_depend_on_the_rank_count(tmp_path, periodic_
 
 
 def test_restart_written_on_2_ranks_continues_on_4(tmp_path, periodic_meshes):
+    """The continuation on 4 ranks (cuts balanced at once, then every 25 steps) gives the forces of the
+    continuation on the 2 ranks that wrote the restart, step by step.
+
+    Against the unbroken run both continuations differ by the same 2.2e-11 relative: measured also
+    without fix balance/x and for 2 -> 2 ranks, so it is the restart of this scene, not the rank count
+    (docs/parallel.md); the continuation itself is test_corotating.py's business."""
     atoms = crowded_atoms(17)
     _, whole = run_screw_paths(tmp_path / "whole", periodic_meshes, atoms, drive="corotating", nprocs=2,
                                balance_every=25, restart_every=150)
     restart = tmp_path / "whole" / "restart.150"
     assert restart.exists()
-    run, continued = run_screw_paths(tmp_path / "continued", periodic_meshes, "", drive="corotating", nprocs=4,
-                                     balance_every=25, nsteps=150, restart_from=restart)
-    assert "4 by 1 by 1 MPI processor grid" in run.log
-    assert continued[0][0] == 150 and continued[-1][0] == 300
-    result = compare(whole, continued, first_step=151)
-    print("restart 2 -> 4 ranks:", result)
+    continued = {}
+    for nprocs in (2, 4):
+        run, continued[nprocs] = run_screw_paths(tmp_path / f"continued{nprocs}", periodic_meshes, "",
+                                                 drive="corotating", nprocs=nprocs, balance_every=25, nsteps=150,
+                                                 restart_from=restart)
+        assert f"{nprocs} by 1 by 1 MPI processor grid" in run.log
+        assert continued[nprocs][0][0] == 150 and continued[nprocs][-1][0] == 300
+    assert run.thermo[-1]["bal"][-1] < 1.2  # the 4-rank continuation is balanced
+    result = compare(continued[2], continued[4], first_step=151)
+    print("restart written on 2 ranks, continued on 4 vs on 2:", result)
+    print("continued on 4 vs the unbroken run:", compare(whole, continued[4], first_step=151))
     assert result["contacts"] > 500
     assert result["relative"] <= 1e-12 and result["absolute"] <= 1e-14, result
