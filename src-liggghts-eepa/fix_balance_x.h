@@ -12,6 +12,7 @@
 // communication and re-distributes the triangles of fixed meshes on every re-neighbouring step.
 // Cuts are not stored in restart files: a run continued from one starts from equal slabs and the
 // first move of the run balances it again.
+// With one rank the fix does nothing.
 //
 // Output: f_ID = the particle imbalance now (largest count per rank / mean count, 1 = balanced);
 // f_ID[k], k = 1 .. N+1, = the x position of cut k-1 (cut 0 = box low end, cut N = high end), m.
