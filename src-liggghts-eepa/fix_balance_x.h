@@ -15,7 +15,8 @@
 // With one rank the fix does nothing.
 //
 // Output: f_ID = the particle imbalance now (largest count per rank / mean count, 1 = balanced);
-// f_ID[k], k = 1 .. N+1, = the x position of cut k-1 (cut 0 = box low end, cut N = high end), m.
+// f_ID[k], k = 1 .. P+1 (P ranks along x), = the x position of cut k-1 (cut 0 = box low end, cut P =
+// high end), m.
 #ifdef FIX_CLASS
 // clang-format off
 FixStyle(balance/x,FixBalanceX)
