@@ -20,8 +20,9 @@ using tsg::measure::fail;
 using tsg::measure::number;
 
 namespace {
-// histogram bins per rank: a cut lands within one bin of its equal-count place (balance_cuts.h),
-// so a rank's share is off by at most about 2 % of its share
+// histogram bins per rank: a cut lands inside the bin of its equal-count place (balance_cuts.h), so
+// a rank's count is off its share by at most the particles of the two bins at its ends (for an
+// even fill, 2 % of the share)
 constexpr int kBinsPerRank = 100;
 }  // namespace
 
