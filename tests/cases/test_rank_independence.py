@@ -13,7 +13,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from test_balance import crowded_atoms, run_screw_paths
 from test_corotating import PERIODIC_LENGTH, atoms_in_bores, compare, periodic_meshes  # noqa: F401
