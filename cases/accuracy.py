@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from tsg_analysis.accuracy import KEY_UNITS, Key, PointError, RunCost, Tolerance, cheapest, key_estimates, point_errors, \
-    quantity_verdict, run_cost, sampling_ends, worst_relative
+    quantity_verdict, resolved_scopes, run_cost, sampling_ends, worst_relative
 from tsg_analysis.model import SOLID_FRACTION
 from tsg_analysis.run_files import AnalysisInputError, read_zones
 from tsg_analysis.uncertainty import Estimate
@@ -239,7 +239,7 @@ class Study:
             ends = sampling_ends(reference.run_dir, [float(p.value) for p in sampling])
             for p, end in zip(sampling, ends):
                 p.state = "done"
-                p.cost = reference.cost.truncated(float(p.value))
+                p.cost = reference.cost.until(end)
                 try:
                     p.errors = point_errors(ref_estimates, key_estimates(reference.run_dir, end), sampling=True)
                 except AnalysisInputError as problem:
@@ -266,7 +266,7 @@ def cell(errors: list[PointError], quantity: str) -> str:
     if not mine:
         return "-"
     short = sum(not e.resolved_inputs for e in mine)
-    resolved = [e for e in mine if e.significant]
+    resolved = resolved_scopes(errors, quantity)
     sampling = mine[0].difference is None
     usable = [e for e in mine if e.resolved_inputs]
     if not usable:
@@ -290,8 +290,9 @@ def cell(errors: list[PointError], quantity: str) -> str:
 def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None, tolerance_quantity: str) -> dict:
     out = study.dir
     quantities = quantities_of(points)
+    # a control's every quantity and scope together: simultaneous intervals (5 % false alarms per control)
     controls_resolved = [f"{p.label}: {e.quantity} {e.scope}" for p in points if p.setting in CONTROLS
-                         for e in p.errors if e.significant]
+                         for e in resolved_scopes(p.errors)]
     choice = None
     if tolerance is not None:
         candidates = {p.label: (p.cost.core_seconds if p.cost else math.nan, p.errors) for p in points[1:]

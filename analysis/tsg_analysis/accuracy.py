@@ -10,9 +10,15 @@ Pure logic on run directories (cases/accuracy.py runs the ladders and writes the
 - `point_error(reference, value)`: a fidelity point's error Δ = value − reference ± interval
   (uncertainty.difference); its bound |Δ| + half-width is the largest error the 95 % interval allows.
   A sampling point's error is the half-width of its own estimate (the statistical error).
-- `verdict(error, tolerance)`: meets (bound within the tolerance), fails (even the interval's lower
-  end |Δ| − half-width exceeds it), undecided (the interval straddles the tolerance) or too short.
-- `cheapest(points, quantity, tolerance)`: the cheapest point whose every scope meets the tolerance.
+- Several scopes looked at together (the 8 elements of a quantity, or every quantity of a control
+  run) would show a "significant" 95 % difference by chance in 5 % of the scopes each. A quantity's
+  (or a control's) difference counts as resolved only when it is significant with simultaneous
+  intervals: Bonferroni, each half-width widened by `family_factor(m)` = z(1 − 0.025/m) / z(0.975)
+  (normal quantiles; the t quantiles of few independent samples would widen slightly more).
+- `verdict(error, tolerance, factor)`: meets (bound within the tolerance), fails (even the interval's
+  lower end |Δ| − half-width exceeds it), undecided (the interval straddles the tolerance) or too short.
+- `cheapest(points, quantity, tolerance)`: the cheapest point whose every scope meets the tolerance
+  (simultaneous intervals over the quantity's scopes).
 - `run_cost(run_dir)`: loop wall time, ranks, steps, atoms and simulated time from log.lammps.
 """
 from __future__ import annotations
@@ -214,23 +220,43 @@ def point_errors(reference: Mapping[Key, Estimate], value: Mapping[Key, Estimate
             for key in reference if key in value]
 
 
-def verdict(error: PointError, tolerance: Tolerance) -> str:
+def family_factor(scopes: int) -> float:
+    """Bonferroni: the half-width of `scopes` simultaneous 95 % intervals over that of one."""
+    from scipy.stats import norm
+
+    return float(norm.ppf(1 - 0.025 / max(scopes, 1)) / norm.ppf(0.975))
+
+
+def resolved_scopes(errors: Sequence[PointError], quantity: str | None = None) -> list[PointError]:
+    """The errors (of `quantity`, or all) that stay significant with simultaneous intervals over them."""
+    family = [e for e in errors if (quantity is None or e.quantity == quantity) and e.difference is not None
+              and e.resolved_inputs]
+    factor = family_factor(len(family))
+    return [e for e in family if e.difference is not None
+            and abs(e.difference.value) > factor * e.difference.half_width]
+
+
+def verdict(error: PointError, tolerance: Tolerance, factor: float = 1.0) -> str:
+    """`factor` widens the half-width (simultaneous intervals over several scopes)."""
     if not error.resolved_inputs:
         return TOO_SHORT
-    allowed = tolerance.allowed(error.reference.mean)
     if tolerance.relative and not math.isfinite(error.relative_bound):
         return UNDECIDED  # the reference's interval covers zero: no relative scale
-    if error.bound <= allowed:
+    allowed = tolerance.allowed(error.reference.mean)
+    widen = (factor - 1.0) * error.half_width
+    if error.bound + widen <= allowed:
         return MEETS
-    if error.lower > allowed:
+    if error.lower - widen > allowed:
         return FAILS
     return UNDECIDED
 
 
 def quantity_verdict(errors: Sequence[PointError], quantity: str, tolerance: Tolerance) -> str:
-    """One verdict over every scope of a quantity: meets only when every scope meets; fails when any
-    fails; otherwise too short / undecided."""
-    verdicts = [verdict(e, tolerance) for e in errors if e.quantity == quantity]
+    """One verdict over every scope of a quantity (simultaneous intervals): meets only when every
+    scope meets; fails when any fails; otherwise too short / undecided."""
+    mine = [e for e in errors if e.quantity == quantity]
+    factor = family_factor(len(mine))
+    verdicts = [verdict(e, tolerance, factor) for e in mine]
     if not verdicts:
         return "not measured"
     if FAILS in verdicts:
@@ -241,11 +267,11 @@ def quantity_verdict(errors: Sequence[PointError], quantity: str, tolerance: Tol
 
 
 def worst_relative(errors: Sequence[PointError], quantity: str) -> tuple[float, bool]:
-    """The largest relative error bound over a quantity's scopes, and whether any scope's error is
-    significant (resolved): the y value of the error-against-cost figure. nan when none is defined."""
+    """The largest relative error bound over a quantity's scopes (per-scope 95 % intervals), and
+    whether the quantity's error is resolved (simultaneous intervals): the y value of the
+    error-against-cost figure. nan when no scope has a relative scale."""
     values = [e.relative_bound for e in errors if e.quantity == quantity and math.isfinite(e.relative_bound)]
-    resolved = any(e.significant for e in errors if e.quantity == quantity)
-    return (max(values) if values else math.nan), resolved
+    return (max(values) if values else math.nan), bool(resolved_scopes(errors, quantity))
 
 
 @dataclass(frozen=True)
@@ -275,19 +301,27 @@ LOOP = re.compile(r"^Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps wi
 
 @dataclass(frozen=True)
 class RunCost:
-    loop_seconds: list[float]  # wall time of each `run` command (LIGGGHTS' loop time)
+    """Per chunk of the run (LIGGGHTS prints a 'Loop time' line for every `run` command and every
+    chunk of `run N every M`): loop wall time, steps and the simulated time it covered."""
+
+    loop_seconds: np.ndarray
+    steps: np.ndarray
+    start_time: np.ndarray  # s, simulated
+    end_time: np.ndarray  # s, simulated
     ranks: int
-    steps: list[int]
     atoms: int
-    simulated_seconds: float
 
     @property
     def wall_seconds(self) -> float:
-        return float(sum(self.loop_seconds))
+        return float(self.loop_seconds.sum())
 
     @property
     def core_seconds(self) -> float:
         return self.ranks * self.wall_seconds
+
+    @property
+    def simulated_seconds(self) -> float:
+        return float(self.end_time[-1] - self.start_time[0])
 
     @property
     def core_seconds_per_simulated_second(self) -> float:
@@ -295,32 +329,33 @@ class RunCost:
 
     @property
     def particle_steps_per_second(self) -> float:
-        return self.atoms * sum(self.steps) / self.wall_seconds if self.wall_seconds > 0 else math.nan
+        return self.atoms * float(self.steps.sum()) / self.wall_seconds if self.wall_seconds > 0 else math.nan
 
-    def truncated(self, fraction_of_last: float) -> RunCost:
-        """The cost up to a fraction of the last `run` (the sampling window)."""
-        last_time = self.simulated_seconds * self.steps[-1] / sum(self.steps)
-        return RunCost(self.loop_seconds[:-1] + [self.loop_seconds[-1] * fraction_of_last], self.ranks,
-                       self.steps[:-1] + [round(self.steps[-1] * fraction_of_last)], self.atoms,
-                       self.simulated_seconds - last_time * (1 - fraction_of_last))
+    def until(self, end: float) -> RunCost:
+        """The cost of the run up to simulated time `end` (a chunk cut by `end` counts in proportion)."""
+        span = np.maximum(self.end_time - self.start_time, 1e-300)
+        share = np.clip((end - self.start_time) / span, 0.0, 1.0)
+        return RunCost(self.loop_seconds * share, np.round(self.steps * share), self.start_time,
+                       np.minimum(self.end_time, max(end, float(self.start_time[0]))), self.ranks, self.atoms)
 
     def as_dict(self) -> dict:
-        return {"wall_seconds": self.wall_seconds, "ranks": self.ranks, "steps": int(sum(self.steps)),
+        return {"wall_seconds": self.wall_seconds, "ranks": self.ranks, "steps": int(self.steps.sum()),
                 "atoms": self.atoms, "simulated_seconds": self.simulated_seconds, "core_seconds": self.core_seconds,
                 "core_seconds_per_simulated_second": self.core_seconds_per_simulated_second,
                 "particle_steps_per_second": self.particle_steps_per_second}
 
 
 def run_cost(run_dir: Path | str) -> RunCost:
-    """The cost of a finished run from its log.lammps: every `run` command's loop time."""
+    """The cost of a finished run from its log.lammps: every chunk's loop time and simulated span."""
     log_path = Path(run_dir) / "log.lammps"
     if not log_path.is_file():
         raise AnalysisInputError(f"{log_path}: no log, the run has not been made")
     log = log_path.read_text(errors="replace")
     loops = LOOP.findall(log)
-    if not loops:
-        raise AnalysisInputError(f"{log_path}: no 'Loop time' line, the run did not finish a run command")
-    blocks = parse_thermo(log)
-    simulated = float(blocks[-1]["Time"][-1] - blocks[0]["Time"][0]) if blocks and "Time" in blocks[0] else math.nan
-    return RunCost([float(w) for w, *_ in loops], int(loops[-1][1]), [int(s) for _, _, s, _ in loops],
-                   int(loops[-1][3]), simulated)
+    blocks = [b for b in parse_thermo(log) if "Time" in b and len(b["Time"])]
+    if not loops or len(blocks) != len(loops):
+        raise AnalysisInputError(f"{log_path}: {len(loops)} 'Loop time' lines and {len(blocks)} thermo blocks with "
+                                 "a Time column: the run did not finish, or its thermo has no time")
+    return RunCost(np.array([float(w) for w, *_ in loops]), np.array([int(s) for _, _, s, _ in loops]),
+                   np.array([float(b["Time"][0]) for b in blocks]), np.array([float(b["Time"][-1]) for b in blocks]),
+                   int(loops[-1][1]), int(loops[-1][3]))

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from tsg_analysis.accuracy import FAILS, MEETS, TOO_SHORT, UNDECIDED, PointError, Tolerance, aligned_labels, \
-    cheapest, point_errors, quantity_verdict, run_cost, verdict
+from tsg_analysis.accuracy import FAILS, MEETS, TOO_SHORT, UNDECIDED, PointError, Tolerance, aligned_labels, family_factor, \
+    cheapest, point_errors, quantity_verdict, resolved_scopes, run_cost, verdict
 from tsg_analysis.run_files import Zones
 from tsg_analysis.uncertainty import Difference, Estimate
 
@@ -131,12 +131,16 @@ def test_cost_from_the_log_by_hand(tmp_path):
     assert cost.simulated_seconds == pytest.approx(0.01)
     assert cost.core_seconds_per_simulated_second == pytest.approx(8000)
     assert cost.particle_steps_per_second == pytest.approx(500 * 4000 / 40)
-    half = cost.truncated(0.5)   # half the sampling run: 15 s of loop, 0.0075 / 2 s of it gone
+    half = cost.until(0.00625)   # half the second chunk (0.0025-0.01 s): 10 + 15 s of loop
     assert half.core_seconds == pytest.approx(2 * 25) and half.simulated_seconds == pytest.approx(0.00625)
+    assert cost.until(0.001).core_seconds == pytest.approx(2 * 4)   # 0.4 of the first chunk
 
 
-def test_cost_of_a_run_without_a_log_is_an_error(tmp_path):
+def test_cost_of_a_run_without_a_log_or_unfinished_is_an_error(tmp_path):
     with pytest.raises(ValueError, match="no log"):
+        run_cost(tmp_path)
+    (tmp_path / "log.lammps").write_text(LOG.rsplit("Loop", 1)[0])   # cut in its last chunk
+    with pytest.raises(ValueError, match="did not finish"):
         run_cost(tmp_path)
 
 
@@ -152,3 +156,19 @@ def test_other_domain_zones_align_on_the_first_kneading_element():
     assert labels[9] == "C1" and labels[10:16] == ["K1", "K2", "K3", "K4", "K5", "K6"] and labels[16] == "C2"
     assert labels[:9] == [None] * 9 and labels[17:] == [None] * 8
     assert aligned_labels(periodic, periodic) == periodic.labels
+
+
+def test_several_scopes_need_simultaneous_intervals():
+    # Bonferroni over 8 scopes: z(1 - 0.025/8) / z(0.975) = 2.73437 / 1.95996 = 1.39511 (tables)
+    assert family_factor(1) == pytest.approx(1.0)
+    assert family_factor(8) == pytest.approx(1.39511, rel=1e-5)
+    # one of 8 scopes significant at 95 % (1.2 > 1.0) but not with 1.395 x 1.0: not resolved
+    errors = [fidelity(1.2, 1.0)] + [fidelity(0.1, 1.0)] * 7
+    assert errors[0].significant and resolved_scopes(errors, "solid fraction") == []
+    strong = [fidelity(1.5, 1.0)] + [fidelity(0.1, 1.0)] * 7
+    assert resolved_scopes(strong, "solid fraction") == strong[:1]
+    # the tolerance verdict widens the same way: alone, bound 0.2 + 0.1 meets 3.2 % (0.32); with 8 scopes
+    # 0.2 + 1.395 x 0.1 = 0.3395 > 0.32 and lower 0.2 - 0.1395 < 0.32: undecided
+    one = [fidelity(0.2, 0.1)]
+    assert quantity_verdict(one, "solid fraction", Tolerance.parse("3.2%")) == MEETS
+    assert quantity_verdict(one * 8, "solid fraction", Tolerance.parse("3.2%")) == UNDECIDED
