@@ -132,7 +132,12 @@ class Study:
         # the reference's variables as the runner will use them: case defaults < scale < user
         self.reference_vars = {**defined_variables(args.case), **{k: str(v) for k, v in scale["vars"].items()},
                                **{k: str(v) for k, v in scale["times"][args.case].items()}, **self.user_vars}
-        self.reference_tolerance = args.mesh_tolerance or scale["tolerance"]
+        for setting, *values in args.ladder:
+            guard = float(self.reference_vars["guard_step_fraction"])
+            if setting == "dt_fraction" and max(float(v) for v in values) > guard:
+                raise StudyError(f"--ladder dt_fraction {max(values, key=float)} is above the time-step guard "
+                                 f"guard_step_fraction = {guard:g}: the run would stop; add -v guard_step_fraction "
+                                 f"{float(max(values, key=float)) + 1e-4:g} (a little above: the guard compares floating-point ratios)")
 
     def argv(self, case: str, np_: int, variables: dict[str, str], tolerance: float | None) -> list[str]:
         argv = [case, "--scale", self.args.scale, "--np", str(np_), "--seed", str(self.args.seed)]

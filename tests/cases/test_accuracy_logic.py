@@ -172,3 +172,34 @@ def test_several_scopes_need_simultaneous_intervals():
     one = [fidelity(0.2, 0.1)]
     assert quantity_verdict(one, "solid fraction", Tolerance.parse("3.2%")) == MEETS
     assert quantity_verdict(one * 8, "solid fraction", Tolerance.parse("3.2%")) == UNDECIDED
+
+
+def test_points_change_one_setting_and_carry_the_reference(tmp_path):
+    from tsg_cases.accuracy import Study, parse
+
+    args = parse([str(tmp_path), "-v", "dt_fraction", "0.1", "-v", "stats_every", "60", "-v", "thermo_every", "600",
+                  "-v", "t_sample", "0.02", "--ladder", "dt_fraction", "0.2", "--ladder", "d_mean", "0.0012",
+                  "--ladder", "domain", "nonperiodic", "--domain-var", "t_run", "0.05", "--ladder", "np", "2",
+                  "--ladder", "mesh_tolerance", "2e-05"])
+    points = {p.label: p for p in Study(args).points()}
+
+    def variables(label: str) -> dict[str, str]:
+        argv = points[label].argv
+        return {argv[k + 1]: argv[k + 2] for k, word in enumerate(argv) if word == "-v"}
+
+    reference = variables("reference")
+    assert reference == {"dt_fraction": "0.1", "stats_every": "60", "thermo_every": "600", "t_sample": "0.02"}
+    # dt doubles: half the steps per output, the same interval in simulated time
+    assert variables("dt_fraction 0.2") == {**reference, "dt_fraction": "0.2", "stats_every": "30", "thermo_every": "300"}
+    # dt ∝ d_mean at a fixed PSD width: 60 x 1.0 / 1.2 = 50 steps
+    assert variables("d_mean 0.0012") == {**reference, "d_mean": "0.0012", "stats_every": "50", "thermo_every": "500"}
+    assert points["np 2"].argv[points["np 2"].argv.index("--np") + 1] == "2"
+    assert "--mesh-tolerance" in points["mesh_tolerance 2e-05"].argv and "--mesh-tolerance" not in points["reference"].argv
+    # another domain: the reference's physics (the periodic case's cohesion 0, not the non-periodic
+    # default 1; the demo's mus_pg 0.1), its own run time, no periodic-only variables
+    domain = points["domain nonperiodic"]
+    assert domain.case == "nonperiodic" and domain.argv[0] == "nonperiodic"
+    carried = variables("domain nonperiodic")
+    assert carried["cohesion"] == "0" and carried["mus_pg"] == "0.1" and carried["t_run"] == "0.05"
+    assert "t_sample" not in carried and "t_startup" not in carried and "buffer" not in carried
+
