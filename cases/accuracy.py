@@ -45,8 +45,21 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from tsg_analysis.accuracy import KEY_UNITS, Key, PointError, RunCost, Tolerance, cheapest, key_estimates, point_errors, \
-    quantity_verdict, resolved_scopes, run_cost, sampling_ends, worst_relative
+from tsg_analysis.accuracy import (
+    KEY_UNITS,
+    Key,
+    PointError,
+    RunCost,
+    Tolerance,
+    cheapest,
+    key_estimates,
+    point_errors,
+    quantity_verdict,
+    resolved_scopes,
+    run_cost,
+    sampling_ends,
+    worst_relative,
+)
 from tsg_analysis.model import SOLID_FRACTION
 from tsg_analysis.run_files import AnalysisInputError, read_zones
 from tsg_analysis.uncertainty import Estimate

@@ -36,8 +36,7 @@ from .massflow import step_clock
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS
 from .profiles import domain_throughput, element_estimates
 from .rtd import mean_residence
-from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, \
-    read_residence, read_zones
+from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, read_residence, read_zones
 from .uncertainty import Difference, Estimate, difference
 
 SPEED = "speed"

@@ -6,8 +6,22 @@ import math
 import numpy as np
 import pytest
 
-from tsg_analysis.accuracy import FAILS, MEETS, TOO_SHORT, UNDECIDED, PointError, Tolerance, aligned_labels, family_factor, \
-    cheapest, point_errors, quantity_verdict, resolved_scopes, run_cost, verdict
+from tsg_analysis.accuracy import (
+    FAILS,
+    MEETS,
+    TOO_SHORT,
+    UNDECIDED,
+    PointError,
+    Tolerance,
+    aligned_labels,
+    cheapest,
+    family_factor,
+    point_errors,
+    quantity_verdict,
+    resolved_scopes,
+    run_cost,
+    verdict,
+)
 from tsg_analysis.run_files import Zones
 from tsg_analysis.uncertainty import Difference, Estimate
 
