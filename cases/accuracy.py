@@ -422,15 +422,16 @@ def figures(out: Path, points: list[Point], quantities: list[str]) -> None:
             for xi, yi, fi in rows:
                 ax.plot(xi, yi, "o" if fi else "v", color=line.get_color(), markerfacecolor=line.get_color() if fi else "none")
             plotted = True
-        if not plotted:
-            plt.close(fig)
-            continue
-        ax.set_xscale("log")
-        ax.set_yscale("log")
+        if plotted:
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.legend(fontsize=8)
+        else:  # said, not left blank: every point's window was too short for an interval
+            ax.text(0.5, 0.5, "no point has an error interval:\nevery window too short (see accuracy.md)",
+                    ha="center", va="center", transform=ax.transAxes)
         ax.set_xlabel("cost of the run, core-seconds")
         ax.set_ylabel(f"relative error of {quantity}, largest over scopes")
         ax.set_title(f"{quantity}: filled = resolved (|Δ| + 95 % half-width);\nopen ▽ = not resolved (upper bound)", fontsize=9)
-        ax.legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(out / f"accuracy-{quantity.replace(' ', '-').replace('/', '-')}.png", dpi=110)
         plt.close(fig)
