@@ -317,10 +317,10 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
                       if p.errors and p.setting not in CONTROLS}
         choice = cheapest(candidates, tolerance_quantity, tolerance)
     result = {
-        "study_dir": str(out), "case": study.args.case, "scale": study.args.scale,
+        "case": study.args.case, "scale": study.args.scale,
         "reference": {"argv": points[0].argv, "state": points[0].state},
         "cost_measure": "core_seconds: ranks x LIGGGHTS loop time of the run (start-up + sampling) that gave the number",
-        "points": [{"label": p.label, "setting": p.setting, "value": p.value, "case": p.case, "run_dir": str(p.run_dir),
+        "points": [{"label": p.label, "setting": p.setting, "value": p.value, "case": p.case, "run_dir": p.run_dir.name,  # inside the study directory
                     "state": p.state, "note": p.note, "argv": p.argv,
                     "cost": p.cost.as_dict() if p.cost else None,
                     "wall_seconds_including_preparation": p.wall_seconds,

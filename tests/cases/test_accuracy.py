@@ -93,7 +93,7 @@ def test_cost_follows_the_time_step(study):
     assert points["sampling 0.5"]["cost"]["core_seconds"] < reference["core_seconds"]
     assert points["np 2"]["cost"]["ranks"] == 2 and reference["ranks"] == 1
     # the coarse point keeps the reference's output interval in simulated time: as many samples
-    samples = {label: sum(1 for line in (Path(points[label]["run_dir"]) / "elements.txt").read_text().splitlines()
+    samples = {label: sum(1 for line in (study[0] / points[label]["run_dir"] / "elements.txt").read_text().splitlines()
                           if line and not line.startswith("#") and len(line.split()) == 2)
                for label in ("reference", "dt_fraction 0.25")}
     assert abs(samples["reference"] - samples["dt_fraction 0.25"]) <= 1
