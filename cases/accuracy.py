@@ -320,7 +320,7 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
         "case": study.args.case, "scale": study.args.scale,
         "reference": {"argv": points[0].argv, "state": points[0].state},
         "cost_measure": "core_seconds: ranks x LIGGGHTS loop time of the run (start-up + sampling) that gave the number",
-        "points": [{"label": p.label, "setting": p.setting, "value": p.value, "case": p.case, "run_dir": p.run_dir.name,  # inside the study directory
+        "points": [{"label": p.label, "setting": p.setting, "value": p.value, "case": p.case, "run_dir": p.run_dir.name,
                     "state": p.state, "note": p.note, "argv": p.argv,
                     "cost": p.cost.as_dict() if p.cost else None,
                     "wall_seconds_including_preparation": p.wall_seconds,
