@@ -39,6 +39,7 @@ import argparse
 import csv
 import json
 import math
+import resource
 import subprocess
 import sys
 import time
@@ -93,7 +94,8 @@ class Point:
     argv: list[str]  # tsg-run-case arguments without --out
     run_dir: Path
     state: str = "pending"
-    wall_seconds: float | None = None
+    wall_seconds: float | None = None  # of the whole point, preparation included
+    cpu_seconds: float | None = None  # user + system time of the runner and lmp: less sensitive to the machine's load
     errors: list[PointError] = field(default_factory=list)
     cost: RunCost | None = None
     note: str = ""
@@ -223,6 +225,7 @@ class Study:
             raise StudyError(f"{point.run_dir} was run with other options ({' '.join(saved.get('argv', []))}): "
                              "remove it or use another study directory")
         point.wall_seconds = saved.get("wall_seconds")
+        point.cpu_seconds = saved.get("cpu_seconds")
         return str(saved.get("state", "pending"))
 
     def run_point(self, point: Point) -> None:
@@ -231,13 +234,15 @@ class Study:
         command = [sys.executable, "-m", "tsg_cases.run_case", *point.argv, "--out", str(point.run_dir)]
         record.write_text(json.dumps({"argv": point.argv, "state": "running"}, indent=1) + "\n")
         print(f"[accuracy] {point.label}: running ({point.run_dir.name})", flush=True)
-        start = time.perf_counter()
+        start, before = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
         with open(point.run_dir / "run.out", "w") as out:
             status = subprocess.run(command, stdout=out, stderr=subprocess.STDOUT).returncode
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
         point.wall_seconds = time.perf_counter() - start
+        point.cpu_seconds = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
         point.state = "done" if status == 0 else f"failed (exit {status})"
         record.write_text(json.dumps({"argv": point.argv, "state": point.state, "exit_status": status,
-                                      "wall_seconds": point.wall_seconds,
+                                      "wall_seconds": point.wall_seconds, "cpu_seconds": point.cpu_seconds,
                                       "finished": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}, indent=1) + "\n")
         print(f"[accuracy] {point.label}: {point.state} in {point.wall_seconds:.0f} s", flush=True)
 
@@ -324,6 +329,7 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
                     "state": p.state, "note": p.note, "argv": p.argv,
                     "cost": p.cost.as_dict() if p.cost else None,
                     "wall_seconds_including_preparation": p.wall_seconds,
+                    "cpu_seconds_including_preparation": p.cpu_seconds,
                     "verdicts": {q: quantity_verdict(p.errors, q, tolerance) for q in quantities} if tolerance else None,
                     "errors": [e.as_dict() for e in p.errors]} for p in points],
         "controls_resolved": controls_resolved,
