@@ -426,7 +426,8 @@ def figures(out: Path, points: list[Point], quantities: list[str]) -> None:
                 continue
             rows.sort()
             x, y, filled = zip(*rows)
-            line, = ax.plot(x, y, "-", label=SETTINGS[setting])
+            label = "sampling length (its own 95 % half-width)" if setting == "sampling" else SETTINGS[setting]
+            line, = ax.plot(x, y, "-", label=label)
             for xi, yi, fi in rows:
                 ax.plot(xi, yi, "o" if fi else "v", color=line.get_color(), markerfacecolor=line.get_color() if fi else "none")
             plotted = True
