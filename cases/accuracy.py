@@ -375,13 +375,15 @@ def markdown(study: Study, points: list[Point], quantities: list[str], controls_
              "zero (|error| ≤ the bound shown). Sampling: the reference's own record truncated, its statistical "
              "half-width. Cost: ranks × LIGGGHTS loop time of the run that gave the number (wall clock: it grows "
              "with the machine's load); CPU s: user + system time of the whole point, preparation included.", ""]
-    header = ["point", "state", "simulated s", "core-s", "core-s / sim-s", "particle-steps / s", "CPU s (with preparation)"] + \
+    header = ["point", "state", "simulated s", "steps / sim-s", "core-s", "core-s / sim-s", "particle-steps / s",
+              "CPU s (with preparation)"] + \
              [f"{q} ({KEY_UNITS[q]})" for q in quantities]
     lines += ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for p in points:
         c = p.cost
-        costs = [f"{c.simulated_seconds:.4g}", f"{c.core_seconds:.4g}", f"{c.core_seconds_per_simulated_second:.4g}",
-                 f"{c.particle_steps_per_second:.3g}"] if c else ["-"] * 4
+        costs = [f"{c.simulated_seconds:.4g}", f"{c.steps_per_simulated_second:.4g}", f"{c.core_seconds:.4g}",
+                 f"{c.core_seconds_per_simulated_second:.4g}",
+                 f"{c.particle_steps_per_second:.3g}"] if c else ["-"] * 5
         costs.append(f"{p.cpu_seconds:.4g}" if p.cpu_seconds is not None and p.setting != "sampling" else "-")
         state = p.state + (f" ({p.note})" if p.note else "")
         cells = [cell(p.errors, q) if p.setting != "reference" else "(reference)" for q in quantities]

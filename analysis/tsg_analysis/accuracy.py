@@ -327,6 +327,11 @@ class RunCost:
         return self.core_seconds / self.simulated_seconds if self.simulated_seconds > 0 else math.nan
 
     @property
+    def steps_per_simulated_second(self) -> float:
+        """1/dt: exact, whatever the machine's load (the wall-clock measures are not)."""
+        return float(self.steps.sum()) / self.simulated_seconds if self.simulated_seconds > 0 else math.nan
+
+    @property
     def particle_steps_per_second(self) -> float:
         return self.atoms * float(self.steps.sum()) / self.wall_seconds if self.wall_seconds > 0 else math.nan
 
@@ -341,6 +346,7 @@ class RunCost:
         return {"wall_seconds": self.wall_seconds, "ranks": self.ranks, "steps": int(self.steps.sum()),
                 "atoms": self.atoms, "simulated_seconds": self.simulated_seconds, "core_seconds": self.core_seconds,
                 "core_seconds_per_simulated_second": self.core_seconds_per_simulated_second,
+                "steps_per_simulated_second": self.steps_per_simulated_second,
                 "particle_steps_per_second": self.particle_steps_per_second}
 
 

@@ -145,6 +145,7 @@ def test_cost_from_the_log_by_hand(tmp_path):
     assert cost.simulated_seconds == pytest.approx(0.01)
     assert cost.core_seconds_per_simulated_second == pytest.approx(8000)
     assert cost.particle_steps_per_second == pytest.approx(500 * 4000 / 40)
+    assert cost.steps_per_simulated_second == pytest.approx(4000 / 0.01)
     half = cost.until(0.00625)   # half the second chunk (0.0025-0.01 s): 10 + 15 s of loop
     assert half.core_seconds == pytest.approx(2 * 25) and half.simulated_seconds == pytest.approx(0.00625)
     assert cost.until(0.001).core_seconds == pytest.approx(2 * 4)   # 0.4 of the first chunk
