@@ -147,6 +147,7 @@ class Study:
         # the reference's variables as the runner will use them: case defaults < scale < user
         self.reference_vars = {**defined_variables(args.case), **{k: str(v) for k, v in scale["vars"].items()},
                                **{k: str(v) for k, v in scale["times"][args.case].items()}, **self.user_vars}
+        self.reference_tolerance: float = args.mesh_tolerance or scale["tolerance"]
         for setting, *values in args.ladder:
             guard = float(self.reference_vars["guard_step_fraction"])
             if setting == "dt_fraction" and max(float(v) for v in values) > guard:
@@ -191,6 +192,18 @@ class Study:
         check_names(given, case, "--domain-var")
         return {**carried, **given}
 
+    def is_reference(self, setting: str, value: str) -> bool:
+        """The reference's own value of a setting (a point that would repeat the reference)."""
+        if setting in ("dt_fraction", "d_mean"):
+            return math.isclose(float(value), float(self.reference_vars[setting]))
+        if setting == "screw_drive":
+            return value == self.reference_vars[setting]
+        if setting == "mesh_tolerance":
+            return math.isclose(float(value), self.reference_tolerance)
+        if setting == "np":
+            return int(value) == self.args.np
+        return setting == "domain" and value == self.args.case
+
     def points(self) -> list[Point]:
         a = self.args
         reference = Point("reference", "", a.case, self.argv(a.case, a.np, dict(self.user_vars), a.mesh_tolerance),
@@ -211,7 +224,11 @@ class Study:
                     np_ = int(value)
                 elif setting == "domain":
                     case, variables = value, self.domain_vars(value)
-                points.append(Point(setting, value, case, self.argv(case, np_, variables, tolerance), run_dir))
+                point = Point(setting, value, case, self.argv(case, np_, variables, tolerance), run_dir)
+                if self.is_reference(setting, value):
+                    raise StudyError(f"--ladder {setting} {value} is the reference's own setting: leave it out "
+                                     "(the reference is every ladder's point of comparison)")
+                points.append(point)
         return points
 
     # ---- running -------------------------------------------------------------------------------
