@@ -492,6 +492,8 @@ def run(args: argparse.Namespace) -> int:
         check_ladder(setting, values)
     if args.np < 1:
         raise StudyError(f"--np {args.np} is not allowed: number of MPI ranks, >= 1")
+    if args.domain_var and not any(setting == "domain" for setting, *_ in args.ladder):
+        raise StudyError(f"--domain-var {args.domain_var[0][0]}: there is no --ladder domain for it to apply to")
     tolerance = Tolerance.parse(args.tolerance) if args.tolerance is not None else None
     study = Study(args)
     points = study.points()
