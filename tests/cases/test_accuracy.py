@@ -21,7 +21,7 @@ LADDERS = ["--ladder", "dt_fraction", "0.25", "--ladder", "sampling", "0.5", "--
 
 
 def tool(study: Path, *extra: str) -> subprocess.CompletedProcess:
-    return subprocess.run(ACCURACY + [str(study), *REFERENCE, *extra], capture_output=True, text=True, timeout=1200)
+    return subprocess.run(ACCURACY + [str(study), *REFERENCE, *extra], capture_output=True, text=True, timeout=2400)
 
 
 @pytest.fixture(scope="module")
