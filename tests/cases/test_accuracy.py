@@ -3,7 +3,7 @@ domain, screws at 6000 rpm so that a 30 ms window holds enough independent sampl
 point, a sampling point and the two controls (stock screw drive, 2 ranks). Checks: the output files,
 the controls' errors "not resolved", no error within its interval printed as a number, the cost
 against the closed form (dt ∝ dt_fraction), resuming reuses the finished points, and a study
-directory made with other options is refused."""
+directory made with other options is refused. Bad options: tests/errors/table_accuracy_tool.py."""
 import csv
 import json
 import math
@@ -110,22 +110,3 @@ def test_resume_reuses_finished_points_and_refuses_other_options(study):
     other = subprocess.run(ACCURACY + [str(directory), *REFERENCE[:-2], "thermo_every", "200", *LADDERS],
                            capture_output=True, text=True)
     assert other.returncode == 2 and "was run with other options" in other.stderr and "Traceback" not in other.stderr
-
-
-@pytest.mark.parametrize("ladder, words", [
-    (["dt_fraction", "0.5"], "--ladder dt_fraction 0.5 is not allowed: 0 < value <= 0.3"),
-    (["domain", "box"], "--ladder domain box is not allowed: use one of periodic, nonperiodic, full"),
-    (["speed", "1"], "--ladder speed is not allowed: use one of dt_fraction"),
-    (["np", "0"], "--ladder np 0 is not allowed"),
-])
-def test_bad_ladder_is_one_line_naming_it(tmp_path, ladder, words):
-    proc = subprocess.run(ACCURACY + [str(tmp_path / "s"), "--ladder", *ladder], capture_output=True, text=True)
-    assert proc.returncode == 2 and words in proc.stderr and "Traceback" not in proc.stderr
-    assert not (tmp_path / "s").exists()
-
-
-def test_time_step_above_the_guard_is_refused_before_running(tmp_path):
-    proc = subprocess.run(ACCURACY + [str(tmp_path / "s"), "--ladder", "dt_fraction", "0.3"], capture_output=True, text=True)
-    assert proc.returncode == 2 and "guard_step_fraction = 0.2001" in proc.stderr
-    assert not (tmp_path / "s").exists()
-
