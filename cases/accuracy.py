@@ -258,6 +258,9 @@ class Study:
         point.wall_seconds = time.perf_counter() - start
         point.cpu_seconds = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
         point.state = "done" if status == 0 else f"failed (exit {status})"
+        if status != 0:  # the runner's one-line reason, for the table
+            lines = [line for line in (point.run_dir / "run.out").read_text(errors="replace").splitlines() if line.strip()]
+            point.note = lines[-1][:300] if lines else ""
         record.write_text(json.dumps({"argv": point.argv, "state": point.state, "exit_status": status,
                                       "wall_seconds": point.wall_seconds, "cpu_seconds": point.cpu_seconds,
                                       "finished": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}, indent=1) + "\n")
