@@ -17,7 +17,7 @@ import pytest
 ACCURACY = [sys.executable, "-m", "tsg_cases.accuracy"]
 REFERENCE = ["--holdup-g", "0.15", "--mesh-tolerance", "2e-05", "-v", "rpm", "6000", "-v", "dt_fraction", "0.2", "-v", "guard_step_fraction", "0.2501",
              "-v", "t_startup", "0.005", "-v", "t_sample", "0.03", "-v", "stats_every", "10", "-v", "thermo_every", "400"]
-LADDERS = ["--ladder", "dt_fraction", "0.25", "--ladder", "sampling", "0.5", "--ladder", "screw_drive", "stock",
+LADDERS = ["--ladder", "dt_fraction", "0.15", "--ladder", "sampling", "0.5", "--ladder", "screw_drive", "stock",
            "--ladder", "np", "2", "--tolerance", "5%"]
 
 
@@ -43,7 +43,7 @@ def test_outputs_are_written(study):
         assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     result = json.loads((directory / "accuracy.json").read_text())
     labels = [p["label"] for p in result["points"]]
-    assert labels == ["reference", "dt_fraction 0.25", "sampling 0.5", "screw_drive stock", "np 2"]
+    assert labels == ["reference", "dt_fraction 0.15", "sampling 0.5", "screw_drive stock", "np 2"]
     assert all(p["state"] == "done" for p in result["points"])
     assert "none resolved" in result["tolerance"]["message"] or result["tolerance"]["cheapest"] in labels
     assert "accuracy.json" in proc.stdout
@@ -84,27 +84,28 @@ def test_no_error_within_its_interval_is_printed_as_a_number(study):
 def test_cost_follows_the_time_step(study):
     result = json.loads((study[0] / "accuracy.json").read_text())
     points = {p["label"]: p for p in result["points"]}
-    reference, coarse = points["reference"]["cost"], points["dt_fraction 0.25"]["cost"]
-    # the same simulated time with dt ∝ dt_fraction: steps in the ratio 0.2 / 0.25 (rounding of each run)
-    # (0.3 loses particles through the barrel at 6000 rpm in this scene: measured)
-    assert coarse["simulated_seconds"] == pytest.approx(reference["simulated_seconds"], rel=0.01)
-    assert coarse["steps"] / reference["steps"] == pytest.approx(0.2 / 0.25, rel=0.01)
+    reference, fine = points["reference"]["cost"], points["dt_fraction 0.15"]["cost"]
+    # the same simulated time with dt ∝ dt_fraction: steps in the ratio 0.2 / 0.15 (rounding of each run)
+    # (a finer point: 0.25 and 0.3 lose particles through the barrel at 6000 rpm in this scene, measured)
+    assert fine["simulated_seconds"] == pytest.approx(reference["simulated_seconds"], rel=0.01)
+    assert fine["steps"] / reference["steps"] == pytest.approx(0.2 / 0.15, rel=0.01)
     # the sampling point is the reference's record up to start-up + half the window
     assert points["sampling 0.5"]["cost"]["simulated_seconds"] == pytest.approx(0.005 + 0.015, rel=0.02)
     assert points["sampling 0.5"]["cost"]["core_seconds"] < reference["core_seconds"]
     assert points["np 2"]["cost"]["ranks"] == 2 and reference["ranks"] == 1
-    # the coarse point keeps the reference's output interval in simulated time: as many samples
+    # the finer point keeps the reference's output interval in simulated time: as many samples
     samples = {label: sum(1 for line in (study[0] / points[label]["run_dir"] / "elements.txt").read_text().splitlines()
                           if line and not line.startswith("#") and len(line.split()) == 2)
-               for label in ("reference", "dt_fraction 0.25")}
-    assert abs(samples["reference"] - samples["dt_fraction 0.25"]) <= 1
+               for label in ("reference", "dt_fraction 0.15")}
+    # (stats_every 10 x 0.2 / 0.15 = 13.3 is rounded to 13 steps: 2.5 % more samples)
+    assert samples["dt_fraction 0.15"] == pytest.approx(samples["reference"] * 13.333 / 13, rel=0.005)
     for p in result["points"]:
         assert math.isfinite(p["cost"]["particle_steps_per_second"]) and p["cost"]["particle_steps_per_second"] > 0
 
 
 def test_resume_reuses_finished_points_and_refuses_other_options(study):
     directory = study[0]
-    stamps = {p: (directory / p / "point.json").stat().st_mtime for p in ("reference", "dt_fraction-0.25")}
+    stamps = {p: (directory / p / "point.json").stat().st_mtime for p in ("reference", "dt_fraction-0.15")}
     again = tool(directory, *LADDERS)
     assert again.returncode == 0 and "running" not in again.stdout
     assert stamps == {p: (directory / p / "point.json").stat().st_mtime for p in stamps}
