@@ -1,0 +1,366 @@
+"""Accuracy against cost (issue 15): the error of each key quantity of a run against a reference run,
+with its 95 % interval, the cost of the run, and the cheapest setting that meets a tolerance.
+
+Pure logic on run directories (cases/accuracy.py runs the ladders and writes the outputs):
+
+- `key_estimates(run_dir, end=None)`: mean ± 95 % interval of the key quantities (mass flow by the
+  flux estimator Σ m v_x / L, per-element solid fraction, axial velocity and speed, mean residence
+  time where complete records exist), over the sampling record up to `end` s (the sampling ladder
+  truncates the reference's own record).
+- `point_error(reference, value)`: a fidelity point's error Δ = value − reference ± interval
+  (uncertainty.difference); its bound |Δ| + half-width is the largest error the 95 % interval allows.
+  A sampling point's error is the half-width of its own estimate (the statistical error).
+- Several scopes looked at together (the 8 elements of a quantity, or every quantity of a control
+  run) would show a "significant" 95 % difference by chance in 5 % of the scopes each. A quantity's
+  (or a control's) difference counts as resolved only when it is significant with simultaneous
+  intervals: Bonferroni, each half-width widened by `family_factor(m)` = z(1 − 0.025/m) / z(0.975)
+  (normal quantiles; the t quantiles of few independent samples would widen slightly more).
+- `verdict(error, tolerance, factor)`: meets (bound within the tolerance), fails (even the interval's
+  lower end |Δ| − half-width exceeds it), undecided (the interval straddles the tolerance) or too short.
+- `cheapest(points, quantity, tolerance)`: the cheapest point whose every scope meets the tolerance
+  (simultaneous intervals over the quantity's scopes).
+- `run_cost(run_dir)`: loop wall time, ranks, steps, atoms and simulated time from log.lammps.
+"""
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .liggghts_log import parse_thermo
+from .massflow import step_clock
+from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS
+from .profiles import domain_throughput, element_estimates
+from .rtd import mean_residence
+from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, read_residence, read_zones
+from .uncertainty import Difference, Estimate, difference
+
+SPEED = "speed"
+KEY_UNITS = {MASS_FLOW: UNITS[MASS_FLOW], SOLID_FRACTION: UNITS[SOLID_FRACTION], AXIAL_VELOCITY: UNITS[AXIAL_VELOCITY],
+             SPEED: "m/s", RESIDENCE_RECORDS: UNITS[RESIDENCE_RECORDS]}
+MEETS, FAILS, UNDECIDED, TOO_SHORT = "meets", "fails", "undecided", "window too short"
+
+Key = tuple[str, str]  # (quantity, scope)
+
+
+# ---- key quantities of one run -------------------------------------------------------------------
+
+def aligned_labels(zones: Zones, reference: Zones) -> list[str | None]:
+    """Each zone's label in the reference's numbering, zones aligned on their first kneading element
+    (a periodic sub-domain against the same elements of the full granulator); None where a zone has
+    no counterpart of the same type in the reference."""
+    anchor = zones.kind.index("kneading") if "kneading" in zones.kind else 0
+    reference_anchor = reference.kind.index("kneading") if "kneading" in reference.kind else 0
+    labels: list[str | None] = []
+    for k, kind in enumerate(zones.kind):
+        j = k - anchor + reference_anchor
+        labels.append(reference.labels[j] if 0 <= j < len(reference) and reference.kind[j] == kind else None)
+    return labels
+
+
+def key_estimates(run_dir: Path | str, end: float | None = None, reference_zones: Zones | None = None) -> dict[Key, Estimate]:
+    """Key quantities of a run over its sampling record (up to `end` s when given), keyed by
+    (quantity, scope); element scopes are labelled in `reference_zones`' numbering when given."""
+    run_dir = Path(run_dir)
+    zones = read_zones(run_dir / "zones.txt")
+    labels = aligned_labels(zones, reference_zones) if reference_zones is not None else list(zones.labels)
+    stats = read_element_statistics(run_dir / "elements.txt")
+    flows = read_massflow(run_dir / "massflow.txt")
+    clock = step_clock(flows)
+    if clock is None:
+        raise AnalysisInputError(f"{run_dir / 'massflow.txt'}: fewer than 2 rows, no time axis")
+    times = clock.time(stats.timesteps)
+    inside = times <= end + 1e-12 if end is not None else np.ones(len(times), bool)
+    if inside.sum() < 2:
+        raise AnalysisInputError(f"{run_dir / 'elements.txt'}: fewer than 2 blocks up to {end} s")
+    stats = type(stats)(stats.timesteps[inside], stats.values[inside])
+    times = times[inside]
+    by_zone, used = element_estimates(stats, zones, None, times)
+    found: dict[Key, Estimate] = {(MASS_FLOW, DOMAIN_FLUX): domain_throughput(stats, zones, used, times)}
+    for quantity, name in ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity"),
+                           (SPEED, "mean_speed")):
+        found.update({(quantity, label): e for label, e in zip(labels, by_zone[name]) if label is not None})
+    residence = run_dir / "residence.txt"
+    if residence.is_file():
+        records = read_residence(residence)
+        complete = np.isin(records.exit_reason, RTD_EXIT_REASONS)
+        if end is not None:
+            complete &= records.exit_time <= end + 1e-12
+        if complete.sum() >= 2:
+            found[(RESIDENCE_RECORDS, "total")] = mean_residence(records.residence_time[complete],
+                                                                  records.exit_time[complete])
+    return found
+
+
+def sampling_ends(run_dir: Path | str, fractions: Sequence[float]) -> list[float]:
+    """End times (s) of the first `fractions` of a run's sampling record (elements.txt blocks)."""
+    run_dir = Path(run_dir)
+    stats = read_element_statistics(run_dir / "elements.txt")
+    clock = step_clock(read_massflow(run_dir / "massflow.txt"))
+    if clock is None or len(stats.timesteps) < 2:
+        raise AnalysisInputError(f"{run_dir}: too short a sampling record to truncate")
+    times = clock.time(stats.timesteps)
+    interval = float(np.median(np.diff(times)))
+    start = float(times[0]) - interval  # the first block averages the interval before it
+    return [start + f * (float(times[-1]) - start) for f in fractions]
+
+
+# ---- the error of a point and its verdict --------------------------------------------------------
+
+@dataclass(frozen=True)
+class Tolerance:
+    """A user tolerance: relative ('5%': of the reference value of each scope) or absolute (in the
+    quantity's unit)."""
+
+    value: float
+    relative: bool
+
+    @classmethod
+    def parse(cls, text: str) -> Tolerance:
+        relative = text.strip().endswith("%")
+        number = text.strip().rstrip("%")
+        try:
+            value = float(number)
+        except ValueError:
+            raise ValueError(f"--tolerance {text} is not allowed: a positive number, with % for relative") from None
+        if not value > 0 or not math.isfinite(value):
+            raise ValueError(f"--tolerance {text} is not allowed: a positive number, with % for relative")
+        return cls(value / 100 if relative else value, relative)
+
+    def allowed(self, reference_mean: float) -> float:
+        return self.value * abs(reference_mean) if self.relative else self.value
+
+    def text(self) -> str:
+        return f"{self.value:.3g} (relative, {self.value:.3%})" if self.relative else f"{self.value:g} (absolute)"
+
+
+@dataclass(frozen=True)
+class PointError:
+    """The error of one quantity in one scope at one ladder point against the reference.
+
+    Fidelity point: `difference` = value − reference ± 95 % interval. Sampling point (the reference's
+    own record truncated): `difference` None and the error is the half-width of `value`."""
+
+    quantity: str
+    scope: str
+    reference: Estimate
+    value: Estimate
+    difference: Difference | None
+
+    @property
+    def resolved_inputs(self) -> bool:
+        if self.difference is None:
+            return self.value.resolved
+        return self.difference.inputs_resolved
+
+    @property
+    def significant(self) -> bool:
+        return self.difference is not None and self.difference.significant
+
+    @property
+    def half_width(self) -> float:
+        return self.value.half_width if self.difference is None else self.difference.half_width
+
+    @property
+    def bound(self) -> float:
+        """The largest |error| the 95 % interval allows; nan when the inputs are not resolved."""
+        if not self.resolved_inputs:
+            return math.nan
+        if self.difference is None:
+            return self.value.half_width
+        return abs(self.difference.value) + self.difference.half_width
+
+    @property
+    def lower(self) -> float:
+        """The smallest |error| the 95 % interval allows (0 when it covers zero); a sampling point's
+        statistical error is its half-width, known, so lower = bound."""
+        if not self.resolved_inputs:
+            return math.nan
+        if self.difference is None:
+            return self.value.half_width
+        return max(0.0, abs(self.difference.value) - self.difference.half_width)
+
+    @property
+    def relative_bound(self) -> float:
+        """bound / |reference|; nan when the reference's own interval covers zero (no scale to relate to)."""
+        if not (self.reference.resolved and abs(self.reference.mean) > self.reference.half_width):
+            return math.nan
+        return self.bound / abs(self.reference.mean)
+
+    def text(self) -> str:
+        unit = KEY_UNITS.get(self.quantity, "")
+        unit = "" if unit == "-" else unit
+        if self.difference is not None:
+            return self.difference.text(unit)
+        if not self.value.resolved:
+            return self.value.text(unit)
+        relative = f" ({self.half_width / abs(self.value.mean):.1%})" if self.value.mean != 0 else ""
+        return f"statistical ± {self.half_width:.2g}{' ' + unit if unit else ''}{relative}"
+
+    def as_dict(self) -> dict:
+        def clean(v: float) -> float | None:
+            return v if math.isfinite(v) else None
+
+        return {"quantity": self.quantity, "scope": self.scope, "reference": self.reference.as_dict(),
+                "value": self.value.as_dict(),
+                "difference": self.difference.as_dict() if self.difference is not None else None,
+                "significant": self.significant, "resolved_inputs": self.resolved_inputs,
+                "bound": clean(self.bound), "relative_bound": clean(self.relative_bound), "text": self.text()}
+
+
+def point_errors(reference: Mapping[Key, Estimate], value: Mapping[Key, Estimate], sampling: bool = False) -> list[PointError]:
+    """Errors of every key both runs have, in the reference's order."""
+    return [PointError(key[0], key[1], reference[key], value[key],
+                       None if sampling else difference(reference[key], value[key]))
+            for key in reference if key in value]
+
+
+def family_factor(scopes: int) -> float:
+    """Bonferroni: the half-width of `scopes` simultaneous 95 % intervals over that of one."""
+    from scipy.stats import norm
+
+    return float(norm.ppf(1 - 0.025 / max(scopes, 1)) / norm.ppf(0.975))
+
+
+def resolved_scopes(errors: Sequence[PointError], quantity: str | None = None) -> list[PointError]:
+    """The errors (of `quantity`, or all) that stay significant with simultaneous intervals over them."""
+    family = [e for e in errors if (quantity is None or e.quantity == quantity) and e.difference is not None
+              and e.resolved_inputs]
+    factor = family_factor(len(family))
+    return [e for e in family if e.difference is not None
+            and abs(e.difference.value) > factor * e.difference.half_width]
+
+
+def verdict(error: PointError, tolerance: Tolerance, factor: float = 1.0) -> str:
+    """`factor` widens the half-width (simultaneous intervals over several scopes)."""
+    if not error.resolved_inputs:
+        return TOO_SHORT
+    if tolerance.relative and not math.isfinite(error.relative_bound):
+        return UNDECIDED  # the reference's interval covers zero: no relative scale
+    allowed = tolerance.allowed(error.reference.mean)
+    widen = (factor - 1.0) * error.half_width
+    if error.bound + widen <= allowed:
+        return MEETS
+    if error.lower - widen > allowed:
+        return FAILS
+    return UNDECIDED
+
+
+def quantity_verdict(errors: Sequence[PointError], quantity: str, tolerance: Tolerance) -> str:
+    """One verdict over every scope of a quantity (simultaneous intervals): meets only when every
+    scope meets; fails when any fails; otherwise too short / undecided."""
+    mine = [e for e in errors if e.quantity == quantity]
+    factor = family_factor(len(mine))
+    verdicts = [verdict(e, tolerance, factor) for e in mine]
+    if not verdicts:
+        return "not measured"
+    if FAILS in verdicts:
+        return FAILS
+    if all(v == MEETS for v in verdicts):
+        return MEETS
+    return TOO_SHORT if TOO_SHORT in verdicts else UNDECIDED
+
+
+def worst_relative(errors: Sequence[PointError], quantity: str) -> tuple[float, bool]:
+    """The largest relative error bound over a quantity's scopes (per-scope 95 % intervals), and
+    whether the quantity's error is resolved (simultaneous intervals): the y value of the
+    error-against-cost figure. nan when no scope has a relative scale."""
+    values = [e.relative_bound for e in errors if e.quantity == quantity and math.isfinite(e.relative_bound)]
+    return (max(values) if values else math.nan), bool(resolved_scopes(errors, quantity))
+
+
+@dataclass(frozen=True)
+class Choice:
+    label: str | None  # the chosen point, None when none meets
+    cost: float | None
+    message: str
+
+
+def cheapest(points: Mapping[str, tuple[float, Sequence[PointError]]], quantity: str, tolerance: Tolerance) -> Choice:
+    """points: label -> (cost, errors). The cheapest point whose `quantity` meets `tolerance` in
+    every scope; otherwise why none does."""
+    verdicts = {label: quantity_verdict(errors, quantity, tolerance) for label, (_, errors) in points.items()}
+    meeting = [(points[label][0], label) for label, v in verdicts.items() if v == MEETS and math.isfinite(points[label][0])]
+    if meeting:
+        cost, label = min(meeting)
+        return Choice(label, cost, f"{label} ({cost:.4g} core-s)")
+    counts = {v: sum(1 for x in verdicts.values() if x == v) for v in (FAILS, UNDECIDED, TOO_SHORT)}
+    detail = ", ".join(f"{n} {v}" for v, n in counts.items() if n)
+    return Choice(None, None, f"none resolved to this tolerance ({detail or 'no points'})")
+
+
+# ---- cost ------------------------------------------------------------------------------------------
+
+LOOP = re.compile(r"^Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", re.MULTILINE)
+
+
+@dataclass(frozen=True)
+class RunCost:
+    """Per chunk of the run (LIGGGHTS prints a 'Loop time' line for every `run` command and every
+    chunk of `run N every M`): loop wall time, steps and the simulated time it covered."""
+
+    loop_seconds: np.ndarray
+    steps: np.ndarray
+    start_time: np.ndarray  # s, simulated
+    end_time: np.ndarray  # s, simulated
+    ranks: int
+    atoms: int
+
+    @property
+    def wall_seconds(self) -> float:
+        return float(self.loop_seconds.sum())
+
+    @property
+    def core_seconds(self) -> float:
+        return self.ranks * self.wall_seconds
+
+    @property
+    def simulated_seconds(self) -> float:
+        return float(self.end_time[-1] - self.start_time[0])
+
+    @property
+    def core_seconds_per_simulated_second(self) -> float:
+        return self.core_seconds / self.simulated_seconds if self.simulated_seconds > 0 else math.nan
+
+    @property
+    def steps_per_simulated_second(self) -> float:
+        """1/dt: exact, whatever the machine's load (the wall-clock measures are not)."""
+        return float(self.steps.sum()) / self.simulated_seconds if self.simulated_seconds > 0 else math.nan
+
+    @property
+    def particle_steps_per_second(self) -> float:
+        return self.atoms * float(self.steps.sum()) / self.wall_seconds if self.wall_seconds > 0 else math.nan
+
+    def until(self, end: float) -> RunCost:
+        """The cost of the run up to simulated time `end` (a chunk cut by `end` counts in proportion)."""
+        span = np.maximum(self.end_time - self.start_time, 1e-300)
+        share = np.clip((end - self.start_time) / span, 0.0, 1.0)
+        return RunCost(self.loop_seconds * share, np.round(self.steps * share), self.start_time,
+                       np.minimum(self.end_time, max(end, float(self.start_time[0]))), self.ranks, self.atoms)
+
+    def as_dict(self) -> dict:
+        return {"wall_seconds": self.wall_seconds, "ranks": self.ranks, "steps": int(self.steps.sum()),
+                "atoms": self.atoms, "simulated_seconds": self.simulated_seconds, "core_seconds": self.core_seconds,
+                "core_seconds_per_simulated_second": self.core_seconds_per_simulated_second,
+                "steps_per_simulated_second": self.steps_per_simulated_second,
+                "particle_steps_per_second": self.particle_steps_per_second}
+
+
+def run_cost(run_dir: Path | str) -> RunCost:
+    """The cost of a finished run from its log.lammps: every chunk's loop time and simulated span."""
+    log_path = Path(run_dir) / "log.lammps"
+    if not log_path.is_file():
+        raise AnalysisInputError(f"{log_path}: no log, the run has not been made")
+    log = log_path.read_text(errors="replace")
+    loops = LOOP.findall(log)
+    blocks = [b for b in parse_thermo(log) if "Time" in b and len(b["Time"])]
+    if not loops or len(blocks) != len(loops):
+        raise AnalysisInputError(f"{log_path}: {len(loops)} 'Loop time' lines and {len(blocks)} thermo blocks with "
+                                 "a Time column: the run did not finish, or its thermo has no time")
+    return RunCost(np.array([float(w) for w, *_ in loops]), np.array([int(s) for _, _, s, _ in loops]),
+                   np.array([float(b["Time"][0]) for b in blocks]), np.array([float(b["Time"][-1]) for b in blocks]),
+                   int(loops[-1][1]), int(loops[-1][3]))
