@@ -13,9 +13,11 @@ axis), the case's materials and models, one particle, then one of
   screws_corotating.in): its static copy of every triangle (in the screw's own frame) and the
   bounding-volume tree, held whole on every rank;
 and `run 1`. Each rank is wrapped in /usr/bin/time, whose "maximum resident set size" is the
-rank's VmHWM (peak, including the transient memory of reading the STL files). Also printed: the
-fix's own triangle storage computed from the triangle count (bytes per triangle from the layout of
-tsg::trimesh::Triangle and TriangleTree, checked with sizeof by --check-layout).
+rank's VmHWM (peak, including the transient memory of reading the STL files). Also printed:
+LIGGGHTS' own report ("Memory usage per processor": atoms, neighbour lists and the fixes'
+memory_usage(), which for fix wall/gran/corotating counts its triangles, tree and coplanar lists;
+fix mesh/surface reports nothing) and, as an independent estimate, the fix's triangle storage from
+the triangle count and the layout of tsg::trimesh::Triangle and TriangleTree.
 Not a test: the numbers depend on the allocator and the MPI library; they do not depend on load.
 """
 from __future__ import annotations
@@ -24,6 +26,7 @@ import argparse
 import json
 import os
 import platform
+import re
 import shlex
 import statistics
 import subprocess
@@ -113,7 +116,8 @@ def run(mesh_dir: Path, variant: str, np_ranks: int, work: Path, lmp: str) -> di
         log = (out / "log.lammps").read_text(errors="replace") if (out / "log.lammps").exists() else ""
         raise SystemExit(f"lmp failed in {out} (exit {done.returncode}):\n{log[-2000:]}\n{done.stderr[-2000:]}")
     hwm_mb = [int((out / f"hwm.{rank}").read_text().split()[-1]) / 1024 for rank in range(np_ranks)]
-    return {"mesh": mesh_dir.name, "variant": variant, "np": np_ranks, "hwm_mb_per_rank": hwm_mb,
+    report = re.findall(r"Memory usage per processor = (\S+) Mbytes", (out / "log.lammps").read_text(errors="replace"))
+    return {"liggghts_report_mb": float(report[-1]), "mesh": mesh_dir.name, "variant": variant, "np": np_ranks, "hwm_mb_per_rank": hwm_mb,
             "hwm_mb_max": max(hwm_mb), "hwm_mb_mean": statistics.fmean(hwm_mb), "hwm_mb_node": sum(hwm_mb),
             "wall_s": time.perf_counter() - start}
 
@@ -144,9 +148,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"machine: {machine()}", flush=True)
     rows = []
     print(f"{'mesh':<26}{'triangles':>10}{'variant':>12}{'ranks':>6}{'MB/rank max':>12}{'MB/rank mean':>13}"
-          f"{'MB all ranks':>13}{'fix copy MB':>12}")
+          f"{'MB all ranks':>13}{'LIGGGHTS MB':>12}{'fix layout MB':>14}")
     for name in args.meshes:
-        mesh_dir = ROOT / "build" / "meshes" / name
+        mesh_dir = Path(name) if "/" in name else ROOT / "build" / "meshes" / name
+        name = mesh_dir.name
         ntri = {part: triangles(mesh_dir / f"{part}.stl") for part in ("screw1", "screw2", "barrel")}
         fix_mb = sum(ntri.values()) * FIX_BYTES_PER_TRIANGLE / 2**20
         for variant in args.variants:
@@ -155,7 +160,8 @@ def main(argv: list[str] | None = None) -> int:
                 row.update(triangles=ntri, fix_copy_mb=fix_mb if variant == "corotating" else 0.0)
                 rows.append(row)
                 print(f"{name:<26}{sum(ntri.values()):>10}{variant:>12}{np_ranks:>6}{row['hwm_mb_max']:>12.1f}"
-                      f"{row['hwm_mb_mean']:>13.1f}{row['hwm_mb_node']:>13.1f}{row['fix_copy_mb']:>12.1f}", flush=True)
+                      f"{row['hwm_mb_mean']:>13.1f}{row['hwm_mb_node']:>13.1f}{row['liggghts_report_mb']:>12.1f}"
+                      f"{row['fix_copy_mb']:>14.1f}", flush=True)
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps({"command": [sys.executable] + sys.argv, "machine": machine(),

@@ -269,7 +269,7 @@ def main(argv: list[str] | None = None) -> int:
         for np_ranks in args.np:
             for label, lmp in variants.items():
                 r, _ = bench(label, lmp, np_ranks, restart, case, args.steps, args.thermo_every,
-                             work / f"{label}-np{np_ranks}-{repeat}")
+                             work / f"{args.scale}-{label}-np{np_ranks}-{repeat}")
                 results.setdefault((label, np_ranks), []).append(r)
                 shares = "/".join(f"{v:.1f}" for v in r.breakdown.values())
                 print(f"{label + ' #' + str(repeat):<14}{np_ranks:>6}{r.atoms:>8}{1e3 * r.loop_s / r.steps:>9.3f}"
@@ -288,7 +288,7 @@ def main(argv: list[str] | None = None) -> int:
               f"{args.repeat}); per repeat min/median/max {fmt(row['ratio_per_repeat'])} ({args.steps} steps, "
               f"machine load in the header)")
     if args.callgrind_steps > 0:
-        counts = {label: callgrind_instructions(label, lmp, restart, case, args.callgrind_steps, work / f"callgrind-{label}")
+        counts = {label: callgrind_instructions(label, lmp, restart, case, args.callgrind_steps, work / f"{args.scale}-callgrind-{label}")
                   for label, lmp in variants.items()}
         for label, count in counts.items():
             print(f"callgrind {label:<9}: {count / args.callgrind_steps / 1e6:.1f} M instructions per step "
@@ -299,7 +299,7 @@ def main(argv: list[str] | None = None) -> int:
             for label, lmp in variants.items():
                 print(f"--- perf profile: {label}, {np_ranks} rank(s), {args.profile_steps} steps (CPU samples by function)")
                 print(perf_profile(label, lmp, np_ranks, restart, case, args.profile_steps, args.thermo_every,
-                                   work / f"perf-{label}-np{np_ranks}"), flush=True)
+                                   work / f"{args.scale}-perf-{label}-np{np_ranks}"), flush=True)
     machine_at_end = machine()
     print(f"machine at the end: {machine_at_end}")
     if args.json:
