@@ -45,7 +45,7 @@ SCALE_VARIABLES: dict[str, dict[str, object]] = {
     "demo": {"d_mean": 0.001, "dt_fraction": 0.2, "mus_pg": 0.1, "guard_max_wall_overlap": 1.0,
              "guard_max_pair_overlap": 1.5, "guard_max_speed": 500},
 }
-DEFAULT_STARTUP_STEPS = {"paper": 6000, "demo": 20000}
+DEFAULT_STARTUP_STEPS = {"paper": 6000, "demo": 4000}
 # The guards stay on (their per-step cost is part of the case) but out of reach: the static paper
 # fill trips max_speed within a few steps (a particle touching a screw at phase 0; docs/stability.md).
 # The demo scale keeps its own guards (runaway-only, cases/run_case.py).
@@ -276,7 +276,7 @@ def main(argv: list[str] | None = None) -> int:
                       f"{1e3 * r.core_s_per_step:>13.3f}{r.particle_steps_per_core_s / 1e6:>20.3f}"
                       f"{r.core_hours_per_sim_s:>14.2f}{r.fix_ms:>12.3f}  {shares}", flush=True)
     summary = []
-    for np_ranks in args.np:
+    for np_ranks in args.np if args.repeat > 0 else []:
         base = [r.core_s_per_step for r in results[("baseline", np_ranks)]]
         mine = [r.core_s_per_step for r in results[("this", np_ranks)]]
         paired = [b / m for b, m in zip(base, mine)]   # each repeat ran the two back to back
@@ -287,6 +287,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{np_ranks} rank(s): core-seconds per step, baseline / this = {row['ratio_of_best']:.2f} (best of "
               f"{args.repeat}); per repeat min/median/max {fmt(row['ratio_per_repeat'])} ({args.steps} steps, "
               f"machine load in the header)")
+    counts: dict[str, int] = {}
     if args.callgrind_steps > 0:
         counts = {label: callgrind_instructions(label, lmp, restart, case, args.callgrind_steps, work / f"{args.scale}-callgrind-{label}")
                   for label, lmp in variants.items()}
@@ -313,7 +314,8 @@ def main(argv: list[str] | None = None) -> int:
                       "particle_steps_per_core_s": r.particle_steps_per_core_s,
                       "core_hours_per_sim_s": r.core_hours_per_sim_s, "fix_ms_per_step": r.fix_ms,
                       "breakdown_percent": r.breakdown} for rs in results.values() for r in rs],
-            "summary": summary}, indent=1) + "\n")
+            "summary": summary,
+            "callgrind": {"steps": args.callgrind_steps, "instructions": counts} if counts else None}, indent=1) + "\n")
     return 0
 
 

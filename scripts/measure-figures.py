@@ -201,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
                  "--np", "1", "2", "--repeat", str(args.repeat), "--work", args.work]
         for section in args.sections:
             if section == "demo":
-                command = bench + ["--scale", "demo", "--steps", "2000", "--thermo-every", "1000",
+                command = bench + ["--scale", "demo", "--steps", "1000", "--thermo-every", "2000",
                                    "--json", MEASURED / "demo_cost.json"]
             elif section == "paper":
                 command = bench + ["--scale", "paper", "--steps", "300", "--thermo-every", "200",
