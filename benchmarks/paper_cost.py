@@ -158,6 +158,7 @@ def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: i
     run_dir.mkdir(parents=True, exist_ok=True)
     (run_dir / "in.restart").write_text(RESTART_INPUT)
     dt = float(case["dt"])
+    thermo_every = max(thermo_every, 1000)   # the case runs in chunks of thermo_every steps, each with a set-up
     variables = {"case_dir": CASES, "out_dir": run_dir, "restart_file": restart, "t_startup": startup_steps * dt,
                  "t_sample": 1e-12, "thermo_every": thermo_every, "stats_every": thermo_every, **guards(case),
                  **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file")}, **SCALE_VARIABLES[str(case["scale"])]}
@@ -252,6 +253,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", type=Path, default=None, help="also write every run and the summary here")
     args = parser.parse_args(argv)
     startup_steps = args.startup_steps or DEFAULT_STARTUP_STEPS[args.scale]
+    if args.steps % args.thermo_every:  # the guards' fix is computed every thermo_every steps; thermo prints the last step
+        parser.error(f"--steps {args.steps} is not allowed: a multiple of --thermo-every {args.thermo_every}")
     work = args.work or Path(tempfile.mkdtemp(prefix="paper_cost_"))
     work.mkdir(parents=True, exist_ok=True)
     print(f"command: {' '.join(shlex.quote(a) for a in [sys.executable] + sys.argv)}")

@@ -36,9 +36,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--lmp", default=os.environ.get("TSG_LMP", str(ROOT / "build" / "lmp")))
     parser.add_argument("--scales", nargs="+", choices=sorted(paper_cost.SCALE_VARIABLES), default=["demo", "paper"])
     parser.add_argument("--np", type=int, nargs="+", default=[1, 2, 4, 8, 16])
-    parser.add_argument("--steps", type=int, nargs="+", default=[2000, 300], help="steps per run, one per scale")
+    parser.add_argument("--steps", type=int, nargs="+", default=[1000, 300], help="steps per run, one per scale")
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--thermo-every", type=int, default=1000)
+    parser.add_argument("--thermo-every", type=int, default=100)
     parser.add_argument("--restart", nargs=2, action="append", default=[], metavar=("SCALE", "FILE"),
                         help="a restart in motion to use for SCALE instead of making one")
     parser.add_argument("--work", type=Path, default=None, help="keeps the prepared fills and restarts between calls")
@@ -46,6 +46,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if len(args.steps) != len(args.scales):
         parser.error(f"--steps takes one value per scale ({len(args.scales)}), got {len(args.steps)}")
+    for steps in args.steps:  # the guards' fix is computed every thermo_every steps; thermo prints the last step
+        if steps % args.thermo_every:
+            parser.error(f"--steps {steps} is not allowed: a multiple of --thermo-every {args.thermo_every}")
     if 1 not in args.np:
         parser.error("--np must include 1 (the speed-up is against 1 rank)")
     work = args.work or Path(tempfile.mkdtemp(prefix="scaling_"))

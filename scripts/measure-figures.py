@@ -201,10 +201,10 @@ def main(argv: list[str] | None = None) -> int:
                  "--np", "1", "2", "--repeat", str(args.repeat), "--work", args.work]
         for section in args.sections:
             if section == "demo":
-                command = bench + ["--scale", "demo", "--steps", "1000", "--thermo-every", "2000",
+                command = bench + ["--scale", "demo", "--steps", "1000", "--thermo-every", "500",
                                    "--json", MEASURED / "demo_cost.json"]
             elif section == "paper":
-                command = bench + ["--scale", "paper", "--steps", "300", "--thermo-every", "200",
+                command = bench + ["--scale", "paper", "--steps", "300", "--thermo-every", "100",
                                    "--json", MEASURED / "paper_cost.json"]
                 if args.paper_restart:
                     command += ["--restart", args.paper_restart]
