@@ -251,6 +251,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="also profile N steps with perf record (each variant, each --np)")
     parser.add_argument("--work", type=Path, default=None, help="keeps the prepared fill and the restart between calls")
     parser.add_argument("--json", type=Path, default=None, help="also write every run and the summary here")
+    parser.add_argument("--collect", action="store_true",
+                        help="run nothing: read the runs an earlier invocation with the same options left in --work")
     args = parser.parse_args(argv)
     startup_steps = args.startup_steps or DEFAULT_STARTUP_STEPS[args.scale]
     if args.steps % args.thermo_every:  # the guards' fix is computed every thermo_every steps; thermo prints the last step
@@ -271,8 +273,14 @@ def main(argv: list[str] | None = None) -> int:
     for repeat in range(args.repeat):
         for np_ranks in args.np:
             for label, lmp in variants.items():
-                r, _ = bench(label, lmp, np_ranks, restart, case, args.steps, args.thermo_every,
-                             work / f"{args.scale}-{label}-np{np_ranks}-{repeat}")
+                run_dir = work / f"{args.scale}-{label}-np{np_ranks}-{repeat}"
+                if args.collect:   # a run of an earlier, interrupted invocation (its log), or none
+                    log = (run_dir / "log.lammps").read_text(errors="replace") if (run_dir / "log.lammps").exists() else ""
+                    if "Loop time" not in log:
+                        continue
+                    r = parse(label, np_ranks, log, float(case["dt"]))
+                else:
+                    r, _ = bench(label, lmp, np_ranks, restart, case, args.steps, args.thermo_every, run_dir)
                 results.setdefault((label, np_ranks), []).append(r)
                 shares = "/".join(f"{v:.1f}" for v in r.breakdown.values())
                 print(f"{label + ' #' + str(repeat):<14}{np_ranks:>6}{r.atoms:>8}{1e3 * r.loop_s / r.steps:>9.3f}"
@@ -280,6 +288,8 @@ def main(argv: list[str] | None = None) -> int:
                       f"{r.core_hours_per_sim_s:>14.2f}{r.fix_ms:>12.3f}  {shares}", flush=True)
     summary = []
     for np_ranks in args.np if args.repeat > 0 else []:
+        if ("baseline", np_ranks) not in results or ("this", np_ranks) not in results:
+            continue
         base = [r.core_s_per_step for r in results[("baseline", np_ranks)]]
         mine = [r.core_s_per_step for r in results[("this", np_ranks)]]
         paired = [b / m for b, m in zip(base, mine)]   # each repeat ran the two back to back
@@ -318,6 +328,8 @@ def main(argv: list[str] | None = None) -> int:
                       "core_hours_per_sim_s": r.core_hours_per_sim_s, "fix_ms_per_step": r.fix_ms,
                       "breakdown_percent": r.breakdown} for rs in results.values() for r in rs],
             "summary": summary,
+            "collected": "runs read from the logs an earlier invocation left in --work (its command and machine are in "
+                         "its own output)" if args.collect else None,
             "callgrind": {"steps": args.callgrind_steps, "instructions": counts} if counts else None}, indent=1) + "\n")
     return 0
 

@@ -18,6 +18,8 @@ docs/measured/):
   (benchmarks/corotating_screws.py; its printed output is kept).
 - main-job: the README's main-job figure: `cases/run_case.py periodic --scale demo --np 2` as the
   README runs it, wall time and ms/step, --repeat times.
+- scaling: strong scaling from the same restarts (benchmarks/scaling.py; --scaling-np, default 1 2).
+- memory: peak memory per rank of the meshes (benchmarks/memory.py; not a time, independent of load).
 The baseline is the lmp before the issue-16 changes to fix wall/gran/corotating: give it
 (--baseline-lmp) or let the script build it from a commit (--baseline-commit: a git worktree and a
 build directory under --work, ccache used when present).
@@ -172,6 +174,32 @@ def render() -> str:
                       f"load average {load(before)} before, {load(meta['machine_after'])} after.", "",
                       "    " + " ".join(shlex.quote(a) for a in meta["command"]), ""]
         lines += ["```", (MEASURED / "screws.txt").read_text().strip(), "```", ""]
+    if (MEASURED / "scaling.json").exists():
+        data = json.loads((MEASURED / "scaling.json").read_text())
+        lines += ["## Strong scaling from a restart in motion (benchmarks/scaling.py)", "",
+                  f"Machine: {data['machine_at_start']}; at the end: {data['machine_at_end']}.", "",
+                  "    " + " ".join(shlex.quote(a) for a in data["command"]), "",
+                  "| scale | particles | steps | ranks | ms/step | speed-up | efficiency |", "|---|---|---|---|---|---|---|"]
+        for block in data["scales"]:
+            for row in block["rows"]:
+                t = row["ms_per_step"]
+                lines.append(f"| {block['scale']} | {block['atoms']} | {block['steps']} | {row['np']} | "
+                             f"{t['median']:.3g} ({t['min']:.3g}–{t['max']:.3g}, {t['n']} runs) | "
+                             f"{row['speed_up']:.2f} | {row['efficiency']:.2f} |")
+        lines.append("")
+    if (MEASURED / "memory.json").exists():
+        data = json.loads((MEASURED / "memory.json").read_text())
+        lines += ["## Peak memory per rank (benchmarks/memory.py)", "",
+                  f"Machine: {data['machine']}.", "", "    " + " ".join(shlex.quote(a) for a in data["command"]), "",
+                  "VmHWM of each rank (/usr/bin/time), one particle, `processors N 1 1`; LIGGGHTS' own report "
+                  "(\"Memory usage per processor\"); the corotating fix's triangle storage from the layout.", "",
+                  "| meshes | triangles | variant | ranks | MB per rank (max) | MB per rank (mean) | MB all ranks | "
+                  "LIGGGHTS report MB | fix triangles MB (layout) |", "|---|---|---|---|---|---|---|---|---|"]
+        for r in data["runs"]:
+            lines.append(f"| {r['mesh']} | {sum(r['triangles'].values())} | {r['variant']} | {r['np']} | "
+                         f"{r['hwm_mb_max']:.0f} | {r['hwm_mb_mean']:.0f} | {r['hwm_mb_node']:.0f} | "
+                         f"{r['liggghts_report_mb']:.0f} | {r['fix_copy_mb']:.0f} |")
+        lines.append("")
     return "\n".join(lines)
 
 
@@ -182,8 +210,9 @@ def main(argv: list[str] | None = None) -> int:
     baseline.add_argument("--baseline-commit", default=DEFAULT_BASELINE_COMMIT,
                           help=f"build the baseline lmp from this commit (default {DEFAULT_BASELINE_COMMIT})")
     parser.add_argument("--lmp", default=os.environ.get("TSG_LMP", str(ROOT / "build" / "lmp")))
-    parser.add_argument("--sections", nargs="+", choices=["demo", "paper", "screws", "main-job"],
+    parser.add_argument("--sections", nargs="+", choices=["demo", "paper", "screws", "main-job", "scaling", "memory"],
                         default=["demo", "paper", "screws", "main-job"])
+    parser.add_argument("--scaling-np", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--work", type=Path, default=Path("/tmp/measure-figures"),
                         help="prepared fills, restarts, the baseline build (reused between calls)")
@@ -210,6 +239,13 @@ def main(argv: list[str] | None = None) -> int:
                     command += ["--restart", args.paper_restart]
             elif section == "screws":
                 command = [sys.executable, ROOT / "benchmarks" / "corotating_screws.py", "--np", "1"]
+            elif section == "scaling":
+                command = [sys.executable, ROOT / "benchmarks" / "scaling.py", "--lmp", args.lmp, "--np",
+                           *map(str, args.scaling_np), "--repeat", str(args.repeat), "--work", args.work,
+                           "--json", MEASURED / "scaling.json"]
+            elif section == "memory":
+                command = [sys.executable, ROOT / "benchmarks" / "memory.py", "--lmp", args.lmp, "--variant-np", "1", "4",
+                           "--work", args.work / "memory", "--json", MEASURED / "memory.json"]
             else:
                 before = machine()
                 result = main_job(args.repeat, args.work, args.lmp)
