@@ -92,8 +92,12 @@ def x_range(mesh_dir: Path) -> tuple[float, float]:
     return float(rows[0][2]), float(rows[-1][3])
 
 
-def run(mesh_dir: Path, variant: str, np_ranks: int, work: Path, lmp: str) -> dict[str, object]:
+def run(mesh_dir: Path, variant: str, np_ranks: int, work: Path, lmp: str, collect: bool) -> dict[str, object] | None:
     out = work / f"{mesh_dir.name}-{variant}-np{np_ranks}"
+    if collect:   # what an earlier, interrupted invocation left in --work, or nothing
+        done_ranks = all((out / f"hwm.{rank}").exists() and (out / f"hwm.{rank}").read_text().strip()
+                         for rank in range(np_ranks))
+        return measured(out, mesh_dir, variant, np_ranks, float("nan")) if done_ranks else None
     out.mkdir(parents=True, exist_ok=True)
     (out / "in.memory").write_text(INPUT)
     (out / "variant.in").write_text(VARIANTS[variant])
@@ -115,11 +119,15 @@ def run(mesh_dir: Path, variant: str, np_ranks: int, work: Path, lmp: str) -> di
     if done.returncode != 0:
         log = (out / "log.lammps").read_text(errors="replace") if (out / "log.lammps").exists() else ""
         raise SystemExit(f"lmp failed in {out} (exit {done.returncode}):\n{log[-2000:]}\n{done.stderr[-2000:]}")
+    return measured(out, mesh_dir, variant, np_ranks, time.perf_counter() - start)
+
+
+def measured(out: Path, mesh_dir: Path, variant: str, np_ranks: int, wall_s: float) -> dict[str, object]:
     hwm_mb = [int((out / f"hwm.{rank}").read_text().split()[-1]) / 1024 for rank in range(np_ranks)]
     report = re.findall(r"Memory usage per processor = (\S+) Mbytes", (out / "log.lammps").read_text(errors="replace"))
-    return {"liggghts_report_mb": float(report[-1]), "mesh": mesh_dir.name, "variant": variant, "np": np_ranks, "hwm_mb_per_rank": hwm_mb,
+    return {"mesh": mesh_dir.name, "variant": variant, "np": np_ranks, "hwm_mb_per_rank": hwm_mb,
             "hwm_mb_max": max(hwm_mb), "hwm_mb_mean": statistics.fmean(hwm_mb), "hwm_mb_node": sum(hwm_mb),
-            "wall_s": time.perf_counter() - start}
+            "liggghts_report_mb": float(report[-1]), "wall_s": wall_s}
 
 
 def machine() -> str:
@@ -142,6 +150,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="rank counts for the box and meshes variants (default: --np)")
     parser.add_argument("--work", type=Path, default=None)
     parser.add_argument("--json", type=Path, default=None)
+    parser.add_argument("--collect", action="store_true",
+                        help="run nothing: read what an earlier invocation with the same options left in --work")
     args = parser.parse_args(argv)
     work = args.work or Path(tempfile.mkdtemp(prefix="memory_"))
     print(f"command: {' '.join(shlex.quote(a) for a in [sys.executable] + sys.argv)}")
@@ -156,7 +166,9 @@ def main(argv: list[str] | None = None) -> int:
         fix_mb = sum(ntri.values()) * FIX_BYTES_PER_TRIANGLE / 2**20
         for variant in args.variants:
             for np_ranks in (args.np if variant == "corotating" or not args.variant_np else args.variant_np):
-                row = run(mesh_dir, variant, np_ranks, work, args.lmp)
+                row = run(mesh_dir, variant, np_ranks, work, args.lmp, args.collect)
+                if row is None:
+                    continue
                 row.update(triangles=ntri, fix_copy_mb=fix_mb if variant == "corotating" else 0.0)
                 rows.append(row)
                 print(f"{name:<26}{sum(ntri.values()):>10}{variant:>12}{np_ranks:>6}{row['hwm_mb_max']:>12.1f}"
@@ -165,6 +177,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps({"command": [sys.executable] + sys.argv, "machine": machine(),
+                                         "collected": "read from what an earlier invocation left in --work"
+                                         if args.collect else None,
                                          "fix_bytes_per_triangle": FIX_BYTES_PER_TRIANGLE, "runs": rows}, indent=1) + "\n")
     return 0
 
