@@ -82,7 +82,9 @@ RESTART_INPUT = """# benchmarks/paper_cost.py: start-up of the paper-scale perio
 variable restart_file index restart.bin   # declared before check_variables in the case
 include ${case_dir}/in.tsg_periodic
 # the measurement fixes' state stays out: their restart format changes between versions, and each
-# benchmark run starts them afresh (a baseline lmp of an earlier commit can read the file)
+# benchmark run starts them afresh (a baseline lmp of an earlier commit can read the file); the
+# thermo line that reads them goes first (write_restart initialises the run state, thermo included)
+thermo_style custom step atoms
 unfix residence
 unfix element_stats
 unfix massflow
