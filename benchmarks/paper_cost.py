@@ -300,7 +300,7 @@ def main(argv: list[str] | None = None) -> int:
                "ratio_of_best": min(base) / min(mine)}
         summary.append(row)
         print(f"{np_ranks} rank(s): core-seconds per step, baseline / this = {row['ratio_of_best']:.2f} (best of "
-              f"{args.repeat}); per repeat min/median/max {fmt(row['ratio_per_repeat'])} ({args.steps} steps, "
+              f"{len(base)} and {len(mine)} runs); per repeat min/median/max {fmt(row['ratio_per_repeat'])} ({args.steps} steps, "
               f"machine load in the header)")
     counts: dict[str, int] = {}
     if args.callgrind_steps > 0:
