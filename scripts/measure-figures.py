@@ -111,6 +111,20 @@ def spread(values: list[float]) -> str:
     return f"{statistics.median(values):.3g} ({min(values):.3g}–{max(values):.3g}, {len(values)} runs)"
 
 
+def runs(n: int) -> str:
+    return "one run" if n == 1 else f"{n} runs"
+
+
+def collected_note(data: dict[str, object], log: Path) -> list[str]:
+    """For runs collected from an interrupted invocation: where its own command and machine lines are."""
+    if not data.get("collected"):
+        return []
+    heads = [line for line in log.read_text().splitlines() if line.startswith(("command:", "machine"))] if log.exists() else []
+    return [f"Collected (`--collect`) from the runs of interrupted invocations, whose own output is in "
+            f"`docs/measured/{log.name}`; the machine line above is the time of collecting. Their headers:", "",
+            *[f"    {line}" for line in heads], ""]
+
+
 def load(m: dict[str, object]) -> str:
     return "/".join(f"{v:.1f}" for v in m["load_average"])
 
@@ -137,6 +151,7 @@ def render() -> str:
                       f"{before['utc']} to {after['utc']}; load average {load(before)} before, {load(after)} after.", ""]
         else:
             lines += [f"Machine: {data['machine_at_start']}; at the end: {data['machine_at_end']}.", ""]
+        lines += collected_note(data, MEASURED / f"{name}_cost.log")
         lines += ["    " + " ".join(shlex.quote(a) for a in data["command"]), "",
                   f"Baseline lmp: `{data['lmp']['baseline']}`; this: `{data['lmp']['this']}`. {data['steps']} steps "
                   f"per run, {data['repeat']} repeats, time step {data['time_step_s']:.4g} s.", "",
@@ -184,13 +199,13 @@ def render() -> str:
             for row in block["rows"]:
                 t = row["ms_per_step"]
                 lines.append(f"| {block['scale']} | {block['atoms']} | {block['steps']} | {row['np']} | "
-                             f"{t['median']:.3g} ({t['min']:.3g}–{t['max']:.3g}, {t['n']} runs) | "
+                             f"{t['median']:.3g} ({t['min']:.3g}–{t['max']:.3g}, {runs(t['n'])}) | "
                              f"{row['speed_up']:.2f} | {row['efficiency']:.2f} |")
         lines.append("")
     if (MEASURED / "memory.json").exists():
         data = json.loads((MEASURED / "memory.json").read_text())
         lines += ["## Peak memory per rank (benchmarks/memory.py)", "",
-                  f"Machine: {data['machine']}.", "", "    " + " ".join(shlex.quote(a) for a in data["command"]), "",
+                  f"Machine: {data['machine']}.", "", *collected_note(data, MEASURED / "memory.log"), "    " + " ".join(shlex.quote(a) for a in data["command"]), "",
                   "VmHWM of each rank (/usr/bin/time), one particle, `processors N 1 1`; LIGGGHTS' own report "
                   "(\"Memory usage per processor\"); the corotating fix's triangle storage from the layout.", "",
                   "| meshes | triangles | variant | ranks | MB per rank (max) | MB per rank (mean) | MB all ranks | "
