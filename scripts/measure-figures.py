@@ -205,7 +205,8 @@ def render() -> str:
     if (MEASURED / "memory.json").exists():
         data = json.loads((MEASURED / "memory.json").read_text())
         lines += ["## Peak memory per rank (benchmarks/memory.py)", "",
-                  f"Machine: {data['machine']}.", "", *collected_note(data, MEASURED / "memory.log"), "    " + " ".join(shlex.quote(a) for a in data["command"]), "",
+                  f"Machine: {data['machine']}.", "", *collected_note(data, MEASURED / "memory.log"),
+                  "    " + " ".join(shlex.quote(a) for a in data["command"]), "",
                   "VmHWM of each rank (/usr/bin/time), one particle, `processors N 1 1`; LIGGGHTS' own report "
                   "(\"Memory usage per processor\"); the corotating fix's triangle storage from the layout.", "",
                   "| meshes | triangles | variant | ranks | MB per rank (max) | MB per rank (mean) | MB all ranks | "
