@@ -21,8 +21,8 @@ docs/measured/):
 - scaling: strong scaling from the same restarts (benchmarks/scaling.py; --scaling-np, default 1 2).
 - memory: peak memory per rank of the meshes (benchmarks/memory.py; not a time, independent of load).
 The baseline is the lmp before the issue-16 changes to fix wall/gran/corotating: give it
-(--baseline-lmp) or let the script build it from a commit (--baseline-commit: a git worktree and a
-build directory under --work, ccache used when present).
+(--baseline-lmp) or let the script build it from a commit (--baseline-commit: the commit's files
+(git archive) and a build directory under --work, ccache used when present).
 Absolute times depend on the machine and its load; the load average is recorded before and after
 each section. Ratios come from runs interleaved in one invocation.
 """
@@ -58,13 +58,15 @@ def machine() -> dict[str, object]:
 
 
 def build_baseline(commit: str, work: Path) -> Path:
-    """lmp of `commit`: a git worktree and a build directory under work (reused when present)."""
+    """lmp of `commit`: its files and a build directory under work (reused when present)."""
     tree, build = work / f"baseline-{commit}", work / f"baseline-{commit}-build"
     lmp = build / "lmp"
     if lmp.exists():
         return lmp
-    if not tree.exists():
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", str(tree), commit], check=True)
+    if not tree.exists():   # the commit's files (git archive: no worktree registered in the repository)
+        tree.mkdir(parents=True)
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit], check=True, capture_output=True).stdout
+        subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True)
     liggghts = Path.home() / ".cache" / "tsg-dem" / "LIGGGHTS-PUBLIC-3.8.0"
     subprocess.run(["cmake", "-S", str(tree), "-B", str(build), f"-DLIGGGHTS_SOURCE_DIR={liggghts}"], check=True,
                    stdout=subprocess.DEVNULL)
