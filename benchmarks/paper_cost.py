@@ -23,10 +23,12 @@ Not a test: wall-clock numbers depend on the machine and its load.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import platform
 import re
 import shlex
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -36,16 +38,25 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
+# The variables of each scale that the benchmark input needs (cases/run_case.py SCALES: the values a
+# run of that scale gets), and the start-up before the restart in motion (steps from the fill).
+SCALE_VARIABLES: dict[str, dict[str, object]] = {
+    "paper": {"d_mean": 0.0004, "dt_fraction": 0.1},
+    "demo": {"d_mean": 0.001, "dt_fraction": 0.2, "mus_pg": 0.1, "guard_max_wall_overlap": 1.0,
+             "guard_max_pair_overlap": 1.5, "guard_max_speed": 500},
+}
+DEFAULT_STARTUP_STEPS = {"paper": 6000, "demo": 4000}
 # The guards stay on (their per-step cost is part of the case) but out of reach: the static paper
 # fill trips max_speed within a few steps (a particle touching a screw at phase 0; docs/stability.md).
+# The demo scale keeps its own guards (runaway-only, cases/run_case.py).
 RELAXED_GUARDS = {"guard_max_speed": 1e9, "guard_max_pair_overlap": 1e9, "guard_max_wall_overlap": 1e9}
 
 BENCH_INPUT = """# benchmarks/paper_cost.py: the paper-scale periodic case continued from a restart taken in motion
+# (the lines of cases/in.tsg_periodic after the fill, with read_restart in place of domain.in + fill)
 processors ${procs_x} 1 1
 read_restart ${restart_file}
+include ${mesh_dir}/machine.in
 newton off
-neighbor ${skin} bin
-neigh_modify delay 0
 communicate single vel yes
 variable d_min equal ${d_min_value}
 include ${case_dir}/include/materials.in
@@ -60,16 +71,23 @@ variable sensor_1 equal ${analysis_lo}
 variable sensor_2 equal ${analysis_hi}
 fix residence all residence/time zones ${zones_file} records ${out_dir}/residence.txt &
     periodic ${analysis_lo} analysis ${analysis_lo} ${analysis_hi}
-include ${case_dir}/include/outputs.in
-thermo_style custom step time atoms ke f_check_contact[1] f_check_contact[4] v_escaped &
-    f_massflow[1] f_massflow[2] f_residence[2] f_residence[3] cpu
-thermo_modify norm no lost error
-thermo ${thermo_every}
+include ${case_dir}/include/element_stats.in
+include ${case_dir}/include/massflow.in
+variable thermo_measures equal 1
+include ${case_dir}/include/thermo.in
 run ${bench_steps}
 """
 
 RESTART_INPUT = """# benchmarks/paper_cost.py: start-up of the paper-scale periodic case, then a restart in motion
+variable restart_file index restart.bin   # declared before check_variables in the case
 include ${case_dir}/in.tsg_periodic
+# the measurement fixes' state stays out: their restart format changes between versions, and each
+# benchmark run starts them afresh (a baseline lmp of an earlier commit can read the file); the
+# thermo line that reads them goes first (write_restart initialises the run state, thermo included)
+thermo_style custom step atoms
+unfix residence
+unfix element_stats
+unfix massflow
 write_restart ${restart_file}
 """
 
@@ -115,35 +133,44 @@ def lmp_run(command: list[str], workdir: Path, variables: dict[str, object]) -> 
     return log
 
 
-def prepare(work: Path, lmp: str) -> dict[str, object]:
-    """Meshes, zones and fill of the paper scale (run_case.py with no steps); the case variables."""
-    prepared = work / "prepared"
+def prepare(work: Path, lmp: str, scale: str = "paper") -> dict[str, object]:
+    """Meshes, zones and fill of the scale (run_case.py with no steps); the case variables."""
+    prepared = work / ("prepared" if scale == "paper" else f"prepared-{scale}")
     if not (prepared / "fill.in").exists():
-        subprocess.run([sys.executable, str(CASES / "run_case.py"), "periodic", "--scale", "paper", "--out", str(prepared),
-                        "-v", "t_startup", "0", "-v", "t_sample", "0"], check=True, capture_output=True, text=True,
+        subprocess.run([sys.executable, str(CASES / "run_case.py"), "periodic", "--scale", scale, "--out", str(prepared),
+                        "-v", "t_startup", "0", "-v", "t_sample", "1e-12"], check=True, capture_output=True, text=True,
                        env=dict(os.environ, TSG_LMP=lmp))
     log = (prepared / "log.lammps").read_text(errors="replace")
     fill = (prepared / "fill.in").read_text()
-    return {"mesh_dir": re.search(r"mesh_dir=(\S+)", log).group(1), "zones_file": prepared / "zones.txt",
-            "fill_file": prepared / "fill.in", "d_mean": 0.0004, "dt_fraction": 0.1,
+    mesh_dir = Path(re.search(r"mesh_dir=(\S+)", log).group(1))
+    if not mesh_dir.is_dir():  # prepared in another checkout: the same meshes of this one
+        mesh_dir = ROOT / "build" / "meshes" / mesh_dir.name
+    return {"mesh_dir": mesh_dir, "zones_file": prepared / "zones.txt",
+            "fill_file": prepared / "fill.in", "scale": scale, **SCALE_VARIABLES[scale],
             "d_min_value": re.search(r"variable d_min equal (\S+)", fill).group(1),
             "dt": float(re.search(r"time step (\S+) s", log).group(1))}
 
 
 def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: int, thermo_every: int) -> Path:
-    restart = work / f"motion-{startup_steps}.restart"
+    restart = work / (f"motion-{startup_steps}.restart" if case["scale"] == "paper"
+                      else f"motion-{case['scale']}-{startup_steps}.restart")
     if restart.exists():
         return restart
-    run_dir = work / f"startup-{startup_steps}"
+    run_dir = work / f"startup-{case['scale']}-{startup_steps}"
     run_dir.mkdir(parents=True, exist_ok=True)
     (run_dir / "in.restart").write_text(RESTART_INPUT)
     dt = float(case["dt"])
+    thermo_every = max(thermo_every, 1000)   # the case runs in chunks of thermo_every steps, each with a set-up
     variables = {"case_dir": CASES, "out_dir": run_dir, "restart_file": restart, "t_startup": startup_steps * dt,
-                 "t_sample": 0, "thermo_every": thermo_every, "stats_every": thermo_every, **RELAXED_GUARDS,
-                 **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file", "d_mean", "dt_fraction")}}
+                 "t_sample": 1e-12, "thermo_every": thermo_every, "stats_every": thermo_every, **guards(case),
+                 **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file")}, **SCALE_VARIABLES[str(case["scale"])]}
     print(f"[restart] {startup_steps} steps ({1e3 * startup_steps * dt:.1f} ms) from the fill, 2 ranks ...", flush=True)
     lmp_run(mpi(lmp, 2) + ["-in", "in.restart", "-log", "log.lammps", "-echo", "none"], run_dir, variables)
     return restart
+
+
+def guards(case: dict[str, object]) -> dict[str, object]:
+    return RELAXED_GUARDS if case["scale"] == "paper" else {}
 
 
 def parse(label: str, np_ranks: int, log: str, dt: float) -> Result:
@@ -164,8 +191,9 @@ def bench(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, ob
     variables = {"case_dir": CASES, "out_dir": workdir, "restart_file": restart, "bench_steps": steps,
                  "thermo_every": thermo_every, "stats_every": thermo_every, "skin": 0.2 * float(case["d_mean"]),
                  "procs_x": "*", "x_lo": 0.0, "domain_length": 0.0958333333333, "buffer": 0.00625, "rpm": 600,
-                 "screw_drive": "corotating", "cohesion": 0, "dump_every": 0, **RELAXED_GUARDS,
-                 **{k: case[k] for k in ("mesh_dir", "zones_file", "d_mean", "dt_fraction", "d_min_value")}}
+                 "screw_drive": "corotating", "screw_direction": 1, "cohesion": 0, "dump_every": 0, "max_escaped": 0,
+                 **guards(case), **SCALE_VARIABLES[str(case["scale"])],
+                 **{k: case[k] for k in ("mesh_dir", "zones_file", "d_min_value")}}
     command = (wrapper or []) + mpi(lmp, np_ranks) + ["-in", "in.bench", "-log", "log.lammps", "-echo", "none"]
     log = lmp_run(command, workdir, variables)
     return parse(label, np_ranks, log, float(case["dt"])), log
@@ -213,19 +241,31 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--np", type=int, nargs="+", default=[1, 2], help="MPI ranks (each measured)")
     parser.add_argument("--steps", type=int, default=400)
     parser.add_argument("--repeat", type=int, default=1)
-    parser.add_argument("--startup-steps", type=int, default=10000, help="steps from the fill before the restart")
+    parser.add_argument("--scale", choices=sorted(SCALE_VARIABLES), default="paper",
+                        help="the periodic case at the paper's 400 um or the demo's 1 mm (cases/run_case.py --scale)")
+    parser.add_argument("--startup-steps", type=int, default=None,
+                        help=f"steps from the fill before the restart (default {DEFAULT_STARTUP_STEPS})")
+    parser.add_argument("--restart", type=Path, default=None,
+                        help="a restart in motion to use instead of making one (written without the measurement fixes)")
     parser.add_argument("--thermo-every", type=int, default=200)
     parser.add_argument("--callgrind-steps", type=int, default=0, help="also count instructions of N steps (serial)")
     parser.add_argument("--profile-steps", type=int, default=0,
                         help="also profile N steps with perf record (each variant, each --np)")
     parser.add_argument("--work", type=Path, default=None, help="keeps the prepared fill and the restart between calls")
+    parser.add_argument("--json", type=Path, default=None, help="also write every run and the summary here")
+    parser.add_argument("--collect", action="store_true",
+                        help="run nothing: read the runs an earlier invocation with the same options left in --work")
     args = parser.parse_args(argv)
+    startup_steps = args.startup_steps or DEFAULT_STARTUP_STEPS[args.scale]
+    if args.steps % args.thermo_every:  # the guards' fix is computed every thermo_every steps; thermo prints the last step
+        parser.error(f"--steps {args.steps} is not allowed: a multiple of --thermo-every {args.thermo_every}")
     work = args.work or Path(tempfile.mkdtemp(prefix="paper_cost_"))
     work.mkdir(parents=True, exist_ok=True)
     print(f"command: {' '.join(shlex.quote(a) for a in [sys.executable] + sys.argv)}")
-    print(f"machine: {machine()}", flush=True)
-    case = prepare(work, args.lmp)
-    restart = make_restart(work, args.lmp, case, args.startup_steps, args.thermo_every)
+    machine_at_start = machine()
+    print(f"machine: {machine_at_start}", flush=True)
+    case = prepare(work, args.lmp, args.scale)
+    restart = args.restart or make_restart(work, args.lmp, case, startup_steps, args.thermo_every)
     print(f"restart: {restart} ({restart.stat().st_size / 1e6:.0f} MB), time step {float(case['dt']):.4g} s", flush=True)
     variants = {"baseline": args.baseline_lmp, "this": args.lmp}
     results: dict[tuple[str, int], list[Result]] = {}
@@ -235,20 +275,36 @@ def main(argv: list[str] | None = None) -> int:
     for repeat in range(args.repeat):
         for np_ranks in args.np:
             for label, lmp in variants.items():
-                r, _ = bench(label, lmp, np_ranks, restart, case, args.steps, args.thermo_every,
-                             work / f"{label}-np{np_ranks}-{repeat}")
+                run_dir = work / f"{args.scale}-{label}-np{np_ranks}-{repeat}"
+                if args.collect:   # a run of an earlier, interrupted invocation (its log), or none
+                    log = (run_dir / "log.lammps").read_text(errors="replace") if (run_dir / "log.lammps").exists() else ""
+                    if "Loop time" not in log:
+                        continue
+                    r = parse(label, np_ranks, log, float(case["dt"]))
+                else:
+                    r, _ = bench(label, lmp, np_ranks, restart, case, args.steps, args.thermo_every, run_dir)
                 results.setdefault((label, np_ranks), []).append(r)
                 shares = "/".join(f"{v:.1f}" for v in r.breakdown.values())
                 print(f"{label + ' #' + str(repeat):<14}{np_ranks:>6}{r.atoms:>8}{1e3 * r.loop_s / r.steps:>9.3f}"
                       f"{1e3 * r.core_s_per_step:>13.3f}{r.particle_steps_per_core_s / 1e6:>20.3f}"
                       f"{r.core_hours_per_sim_s:>14.2f}{r.fix_ms:>12.3f}  {shares}", flush=True)
-    for np_ranks in args.np:
-        base = min(r.core_s_per_step for r in results[("baseline", np_ranks)])
-        mine = min(r.core_s_per_step for r in results[("this", np_ranks)])
-        print(f"{np_ranks} rank(s): core-seconds per step, baseline / this = {base / mine:.2f} (best of {args.repeat}, "
-              f"{args.steps} steps, under load)")
+    summary = []
+    for np_ranks in args.np if args.repeat > 0 else []:
+        if ("baseline", np_ranks) not in results or ("this", np_ranks) not in results:
+            continue
+        base = [r.core_s_per_step for r in results[("baseline", np_ranks)]]
+        mine = [r.core_s_per_step for r in results[("this", np_ranks)]]
+        paired = [b / m for b, m in zip(base, mine)]   # each repeat ran the two back to back
+        row = {"np": np_ranks, "baseline_ms_per_step": spread([1e3 * v / np_ranks for v in base]),
+               "this_ms_per_step": spread([1e3 * v / np_ranks for v in mine]), "ratio_per_repeat": spread(paired),
+               "ratio_of_best": min(base) / min(mine)}
+        summary.append(row)
+        print(f"{np_ranks} rank(s): core-seconds per step, baseline / this = {row['ratio_of_best']:.2f} (best of "
+              f"{len(base)} and {len(mine)} runs); per repeat min/median/max {fmt(row['ratio_per_repeat'])} ({args.steps} steps, "
+              f"machine load in the header)")
+    counts: dict[str, int] = {}
     if args.callgrind_steps > 0:
-        counts = {label: callgrind_instructions(label, lmp, restart, case, args.callgrind_steps, work / f"callgrind-{label}")
+        counts = {label: callgrind_instructions(label, lmp, restart, case, args.callgrind_steps, work / f"{args.scale}-callgrind-{label}")
                   for label, lmp in variants.items()}
         for label, count in counts.items():
             print(f"callgrind {label:<9}: {count / args.callgrind_steps / 1e6:.1f} M instructions per step "
@@ -259,9 +315,33 @@ def main(argv: list[str] | None = None) -> int:
             for label, lmp in variants.items():
                 print(f"--- perf profile: {label}, {np_ranks} rank(s), {args.profile_steps} steps (CPU samples by function)")
                 print(perf_profile(label, lmp, np_ranks, restart, case, args.profile_steps, args.thermo_every,
-                                   work / f"perf-{label}-np{np_ranks}"), flush=True)
-    print(f"machine at the end: {machine()}")
+                                   work / f"{args.scale}-perf-{label}-np{np_ranks}"), flush=True)
+    machine_at_end = machine()
+    print(f"machine at the end: {machine_at_end}")
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps({
+            "command": [sys.executable] + sys.argv, "machine_at_start": machine_at_start, "machine_at_end": machine_at_end,
+            "scale": args.scale, "steps": args.steps, "repeat": args.repeat, "restart": str(restart),
+            "lmp": {"baseline": args.baseline_lmp, "this": args.lmp}, "time_step_s": float(case["dt"]),
+            "runs": [{"label": r.label, "np": r.np, "steps": r.steps, "atoms": r.atoms, "loop_s": r.loop_s,
+                      "ms_per_step": 1e3 * r.loop_s / r.steps, "core_ms_per_step": 1e3 * r.core_s_per_step,
+                      "particle_steps_per_core_s": r.particle_steps_per_core_s,
+                      "core_hours_per_sim_s": r.core_hours_per_sim_s, "fix_ms_per_step": r.fix_ms,
+                      "breakdown_percent": r.breakdown} for rs in results.values() for r in rs],
+            "summary": summary,
+            "collected": "runs read from the logs an earlier invocation left in --work (its command and machine are in "
+                         "its own output)" if args.collect else None,
+            "callgrind": {"steps": args.callgrind_steps, "instructions": counts} if counts else None}, indent=1) + "\n")
     return 0
+
+
+def spread(values: list[float]) -> dict[str, float]:
+    return {"min": min(values), "median": statistics.median(values), "max": max(values), "n": len(values)}
+
+
+def fmt(s: dict[str, float]) -> str:
+    return f"{s['min']:.2f}/{s['median']:.2f}/{s['max']:.2f}"
 
 
 if __name__ == "__main__":
