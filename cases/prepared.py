@@ -69,7 +69,7 @@ def fill_files(mesh_dir: Path, d_mean: float, psd_sigma: float, rho_p: float, ho
     atom map; about 5 minutes for the paper's 53 940 particles on 2 loaded cores)."""
     length = domain_length(mesh_dir)
     with Heartbeat(f"placing {holdup_g:g} g of {d_mean * 1e6:g} um particles in {mesh_dir.name}",
-                   expected="about 10 min for the paper fill on 2 loaded cores"):
+                   expected="the paper fill: 250 s of CPU, 30 min on 2 heavily loaded cores"):
         centres, diameters = free_space.fill(mesh_dir, holdup_g * 1e-3, d_mean, psd_sigma, rho_p, (0.0, length), True, seed)
     machine = read_machine(mesh_dir)
     mass_g = rho_p * np.pi / 6 * np.sum(diameters ** 3) * 1e3
@@ -157,7 +157,7 @@ def build_meshes(mesh_dir: Path) -> None:
     tolerance = float(tag[:-2]) * 1e-6
     if tolerance_tag(tolerance) != tag:
         raise PrepareError(f"mesh_dir {mesh_dir}: tolerance tag {tag} does not read back as {tolerance_tag(tolerance)}")
-    with Heartbeat(f"meshes {name}", expected="about 2-3 min for the full machine at 1 um on 2 loaded cores"):
+    with Heartbeat(f"meshes {name}", expected="the full machine at 1 um: 135 s on 2 heavily loaded cores"):
         proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(mesh_dir), "--tolerance", str(tolerance)],
                               capture_output=True, text=True)
     if proc.returncode != 0:

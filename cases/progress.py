@@ -7,7 +7,7 @@
         fill(...)
 
     python -m tsg_cases.progress follow RUN_DIR [--total-time S]   # follow a run started elsewhere
-    python -m tsg_cases.progress wait LABEL -- COMMAND ...        # run COMMAND with a heartbeat line
+    python -m tsg_cases.progress wait [--every S] LABEL -- COMMAND ...   # COMMAND with a heartbeat line
 
 Each line: simulated time and percent of the planned time, ETA, step, particles, escaped particles
 and the overlap monitors of cases/include/thermo.in (largest pair overlap/radius `pp_max`, largest
@@ -231,7 +231,7 @@ def main(argv: list[str] | None = None) -> int:
     f.add_argument("run_dir", type=Path, help="the run's directory (its log.lammps) or the log file")
     f.add_argument("--total-time", type=float, help="planned simulated time, s (for the percent and the ETA)")
     f.add_argument("--every", type=float, default=DEFAULT_EVERY, help="seconds between lines")
-    w = sub.add_parser("wait", help="run a command, printing a line every --every seconds until it ends")
+    w = sub.add_parser("wait", help="run a command, printing a line every --every seconds until it ends (options before LABEL)")
     w.add_argument("label")
     w.add_argument("--every", type=float, default=DEFAULT_EVERY)
     w.add_argument("--expected", help="how long the step took when measured (printed with each line)")

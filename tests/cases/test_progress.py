@@ -94,9 +94,10 @@ def test_follow_prints_lines_while_a_process_writes_its_log(tmp_path):
 
 
 def test_the_runner_prints_progress_lines(tmp_path):
-    # the demo case, 600 steps with a thermo row every 100; a progress line every second
+    # the demo case with a small hold-up, 640 steps with a thermo row every 100; a progress line every second
     env = dict(os.environ, TSG_PROGRESS_EVERY="1")
     proc = subprocess.run([sys.executable, "-m", "tsg_cases.run_case", "periodic", "--scale", "demo", "--out", str(tmp_path),
+                           "--holdup-g", "0.3",
                            "-v", "t_startup", "0.0008", "-v", "t_sample", "0.0008", "-v", "thermo_every", "100",
                            "-v", "stats_every", "100"], capture_output=True, text=True, env=env, timeout=900)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
@@ -109,3 +110,25 @@ def test_the_runner_prints_progress_lines(tmp_path):
     assert "overlap/R pair" in final and final.endswith("[lmp exited: 0]")
     assert any(line.startswith("[prepare]") for line in proc.stdout.splitlines()), proc.stdout   # the fill's heartbeat
     assert (tmp_path / "log.lammps").is_file()       # the full log stays in the run directory
+
+
+def test_follow_command_reads_a_log_to_its_end(tmp_path):
+    (tmp_path / "log.lammps").write_text(HEADER + row(0, 0.0) + row(8000, 0.008) + "TSG-DONE escaped 0 particles 3453\n")
+    done = subprocess.run([sys.executable, "-m", "tsg_cases.progress", "follow", str(tmp_path), "--total-time", "0.008",
+                           "--every", "0.1"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0 and "t = 0.008 of 0.008 s (100.0 %)" in done.stdout, done.stdout + done.stderr
+    assert done.stdout.splitlines()[-1] == "[progress] TSG-DONE escaped 0 particles 3453"
+    missing = subprocess.run([sys.executable, "-m", "tsg_cases.progress", "follow", str(tmp_path / "nothing")],
+                             capture_output=True, text=True, timeout=60)
+    assert missing.returncode == 2 and "does not exist" in missing.stderr
+
+
+def test_wait_command_beats_while_a_step_works_and_passes_its_status():
+    beats = subprocess.run([sys.executable, "-m", "tsg_cases.progress", "wait", "--every", "0.2", "meshes", "--",
+                            sys.executable, "-c", "import time; time.sleep(1.1)"], capture_output=True, text=True, timeout=60)
+    lines = beats.stdout.splitlines()
+    assert beats.returncode == 0 and lines[0] == "[prepare] meshes ..." and lines[-1].startswith("[prepare] meshes: done in")
+    assert sum("so far" in line for line in lines) >= 3, lines          # about 5 beats in 1.1 s
+    failing = subprocess.run([sys.executable, "-m", "tsg_cases.progress", "wait", "fill", "--", "false"],
+                             capture_output=True, text=True, timeout=60)
+    assert failing.returncode == 1
