@@ -43,3 +43,25 @@ def test_periodic_reference_runs_as_typed(tmp_path, ranks):
     for name in ("residence.txt", "massflow.txt", "elements.txt"):
         assert (tmp_path / name).is_file(), name                      # outputs in out_dir, none in cases/
     assert not any((ROOT / "cases" / name).exists() for name in ("residence.txt", "massflow.txt", "elements.txt"))
+
+
+def test_merged_feed_blocks_cover_exactly_the_free_cubes():
+    import numpy as np
+
+    from tsg_cases.prepared import merge_cubes
+    rng = np.random.default_rng(7)
+    side = 0.5
+    cells = np.argwhere(rng.random((9, 7, 5)) < 0.6)            # a grid of free cubes with holes
+    corners = cells * side + np.array([0.1, -2.0, 3.0])
+    blocks = merge_cubes(corners, side)
+    assert len(blocks) < len(corners)
+    centres = corners + side / 2
+    free = {tuple(c) for c in cells}
+    holes = np.array([c for c in np.argwhere(np.ones((9, 7, 5), dtype=bool)) if tuple(c) not in free]) * side \
+        + np.array([0.1, -2.0, 3.0]) + side / 2
+
+    def hits(points):
+        return np.array([[np.all((q > lo) & (q < hi)) for lo, hi in blocks] for q in points]).sum(axis=1)
+    assert np.all(hits(centres) == 1)                             # every free cube in exactly one block
+    assert np.all(hits(holes) == 0)                               # no block covers a cube that is not free
+    assert sum(np.prod(hi - lo) for lo, hi in blocks) == pytest.approx(len(corners) * side ** 3)
