@@ -65,3 +65,20 @@ def test_merged_feed_blocks_cover_exactly_the_free_cubes():
     assert np.all(hits(centres) == 1)                             # every free cube in exactly one block
     assert np.all(hits(holes) == 0)                               # no block covers a cube that is not free
     assert sum(np.prod(hi - lo) for lo, hi in blocks) == pytest.approx(len(corners) * side ** 3)
+
+
+def test_nonperiodic_subdomain_runs_as_typed(tmp_path):
+    # the paper's non-periodic sub-domain with its defaults (400 um, 1 um meshes, EEPA, fed at the
+    # inlet from the feed blocks set-up made) for 1e-4 s: particles are generated and none escapes
+    feed = ROOT / "build" / "prepared" / "nonperiodic-feed.in"
+    assert feed.is_file(), f"{feed} is missing: ./tsg setup makes it (step 'paper-scale inputs of the case files')"
+    proc = subprocess.run([LMP, "-in", "in.tsg_nonperiodic", "-var", "out_dir", str(tmp_path), "-var", "t_run", "1e-4",
+                           "-var", "thermo_every", "50"], cwd=ROOT / "cases", capture_output=True, text=True, timeout=1200,
+                          env=dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"))
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    assert proc.returncode == 0, log[-3000:] + proc.stderr[-2000:]
+    inserted = int(re.search(r"inserted (\d+) particle templates", log).group(1))
+    thermo = parse_thermo(log)
+    assert inserted > 1000 and thermo[-1]["Atoms"][-1] == inserted and thermo[-1]["escaped"][-1] == 0
+    assert "cohesion=1" in log and "mesh_dir=./../build/meshes/consigma1-nonperiodic-1um" in log
+    assert f"TSG-DONE escaped 0 particles {inserted}" in log
