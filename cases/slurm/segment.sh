@@ -67,7 +67,10 @@ else
 fi
 
 # shellcheck disable=SC2086  # TSG_LAUNCH and TSG_VARS are word lists
-(cd "$repo/cases" && $launch "$lmp" -in "in.tsg_$case_name" -echo none "${vars[@]}" ${TSG_VARS:-}) || true
+# run in ${out}: LIGGGHTS writes its start-up log.liggghts, and on SIGTERM (SLURM's time limit) a
+# restart_forced_liggghts_<step>.data, into the working folder
+(cd "$out" && $launch "$lmp" -in "$repo/cases/in.tsg_$case_name" -echo none -var case_dir "$repo/cases" \
+  "${vars[@]}" ${TSG_VARS:-}) || true
 
 if grep -q '^TSG-DONE' "$out/log.lammps" 2>/dev/null; then
   parts=$(find "$out" -maxdepth 1 -name 'elements.upto-*.txt' -printf '%f\n' | sort -t- -k2 -n | sed "s|^|$out/|")
