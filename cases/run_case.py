@@ -27,6 +27,7 @@ from tsg_analysis.summary import summary_table
 from tsg_cases import free_space
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
+from tsg_cases.progress import Heartbeat, follow
 from tsg_meshes.build import tolerance_tag
 from tsg_meshes.machine import MACHINE_FILE
 
@@ -120,6 +121,16 @@ def feed_position(feed_at: str, zones) -> float:
     raise UserError(f"--feed-at {feed_at} is not allowed: use 'inlet' or 'element:N' with 1 <= N <= {len(zones)}")
 
 
+def planned_time(case: str, values: dict[str, str]) -> float | None:
+    """Simulated time the run is planned for (the progress lines' 100 %): the full case's start-up
+    ends at the steady state, so its plan is the upper bound t_max_startup + t_sample."""
+    names = {"periodic": ("t_startup", "t_sample"), "nonperiodic": ("t_run",), "full": ("t_max_startup", "t_sample")}[case]
+    try:
+        return sum(float(values[name]) for name in names)
+    except (KeyError, ValueError):
+        return None
+
+
 def run(args: argparse.Namespace) -> int:
     check_options(args)
     given = dict(args.var)
@@ -138,6 +149,7 @@ def run(args: argparse.Namespace) -> int:
         (out / ".tsg-write-test").unlink()
     except OSError as problem:
         raise UserError(f"--out {args.out}: cannot write there ({problem.strerror})") from None
+    preparing = Heartbeat(f"{args.case} case: meshes and {'fill' if args.case == 'periodic' else 'feed regions'}").start()
 
     mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"])
     zones = read_zones(mesh_dir / "zones.txt")
@@ -158,6 +170,7 @@ def run(args: argparse.Namespace) -> int:
         (out / "feed.in").write_text(free_space.feed_include(corners, side, str(mesh_dir)))
         variables["feed_file"] = out / "feed.in"
         what = f"feed region of {len(corners)} cubes at x = {x0 * 1e3:.1f}-{(x0 + 0.028) * 1e3:.1f} mm"
+    preparing.stop()
     # the run directory is self-describing for tsg_analysis: zones, machine geometry, screw surfaces
     for name in ("zones.txt", MACHINE_FILE):
         shutil.copyfile(mesh_dir / name, out / name)
@@ -182,12 +195,16 @@ def run(args: argparse.Namespace) -> int:
         command += ["-var", name, str(value)]
     print(f"[run] {args.case} case, {args.scale} scale: {what}, meshes {mesh_dir.name}, output {out}", flush=True)
     start = time.perf_counter()
-    with open(out / "screen.txt", "w") as screen:
-        proc = subprocess.run(command, cwd=out, stdout=screen, stderr=subprocess.STDOUT, env=lmp_environment())
+    # lmp's screen output goes to screen.txt, its log to log.lammps; a progress line every ~10 s
+    # (TSG_PROGRESS_EVERY) comes from the log as it grows (cases/progress.py)
+    (out / "log.lammps").unlink(missing_ok=True)     # the follower must not read a previous run's log
+    with open(out / "screen.txt", "w") as screen, \
+            subprocess.Popen(command, cwd=out, stdout=screen, stderr=subprocess.STDOUT, env=lmp_environment()) as proc:
+        returncode = follow(proc, out / "log.lammps", planned_time(args.case, effective))
     wall = time.perf_counter() - start
-    if proc.returncode != 0:
+    if returncode != 0:
         error = first_error(out)
-        print(f"[run] lmp failed (exit {proc.returncode}): {error or 'see ' + str(out / 'screen.txt')}", file=sys.stderr)
+        print(f"[run] lmp failed (exit {returncode}): {error or 'see ' + str(out / 'screen.txt')}", file=sys.stderr)
         return 1
     log = (out / "log.lammps").read_text(errors="replace")
     thermo = parse_thermo(log)

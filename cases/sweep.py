@@ -11,7 +11,8 @@ cohesion), each applied to particle–particle and particle–geometry alike as 
 the particle-size series of Section 2.4 (mean diameter 200–1500 um, same mass). Overrides (-v) are
 checked against the periodic case's variables and value rules when written. Each run directory
 holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once run, the case outputs and a state
-marker: RUNNING (with the process id), DONE or FAILED (with the exit status).
+marker: RUNNING (with the process id), DONE or FAILED (with the exit status). The runner's output,
+with its progress line every ~10 s (cases/progress.py), goes to the terminal and to run.out.
 """
 from __future__ import annotations
 
@@ -61,7 +62,7 @@ def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str]) -> lis
             'here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"\n'
             'rm -f "$here/DONE" "$here/FAILED"; echo $$ > "$here/RUNNING"\n'
             f'{python} {runner} periodic --scale {scale} --np "${{TSG_NP:-{ranks}}}" --out "$here" {options}'
-            ' > "$here/run.out" 2>&1\nstatus=$?\nrm -f "$here/RUNNING"\n'
+            ' 2>&1 | tee "$here/run.out"\nstatus=${PIPESTATUS[0]}\nrm -f "$here/RUNNING"\n'
             'if [ $status -eq 0 ]; then touch "$here/DONE"; else echo $status > "$here/FAILED"; fi\nexit $status\n')
         (run_dir / "run.sh").chmod(0o755)
         names.append(name)

@@ -2,7 +2,8 @@
 # One set-up for a fresh Debian 12 machine (also used by docker/Dockerfile and .ci/run).
 # Idempotent and resumable: every step checks what is already there and only does what is missing.
 #
-#   scripts/setup.sh            all steps
+#   scripts/setup.sh            all steps (the first run also makes the paper-scale inputs of the
+#                               case files: over an hour on 2 heavily loaded cores, docs/cluster.md)
 # Environment: TSG_CACHE_DIR (default ~/.cache/tsg-dem), LIGGGHTS_SOURCE_DIR (use your own tree),
 #              TSG_BUILD_DIR (default build), TSG_JOBS (default: number of cores)
 set -euo pipefail
@@ -98,6 +99,20 @@ else
   .venv/bin/python -m tsg_meshes build-all "$build_dir/meshes" \
     || fail "mesh generation failed (see the message above)"
   echo "$mesh_want" > "$mesh_stamp"
+fi
+
+# ---- 6. what the case files' defaults name (inputs run as typed) ---------------------------------
+# `cd cases && lmp -in in.tsg_periodic` (and in.tsg_full, in.tsg_nonperiodic) runs the paper scale
+# with no other step: the 1 um meshes, the periodic fill and the feed regions its defaults name
+# (build/meshes, build/prepared; cases/prepared.py), and runs/ for its outputs (docs/cluster.md).
+current_step="paper-scale inputs of the case files"
+step "$current_step"
+if [ "$(realpath -m "$build_dir")" = "$root/build" ]; then
+  mkdir -p runs
+  .venv/bin/python -m tsg_cases.prepared defaults \
+    || fail "preparing the case files' default inputs failed (see the message above). Re-run to resume."
+else
+  echo "skipped: the case files' defaults name build/, not TSG_BUILD_DIR=$build_dir (pass -var mesh_dir/fill_file/feed_file)"
 fi
 
 step "set-up complete"

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# One job segment of a case run that is longer than a job may last (cases/slurm/*.slurm; docs/cluster.md).
+#
+#   segment.sh CASE JOB_SCRIPT
+#
+# 1. If ${out}/DONE exists, the run is finished: exit. If ${out}/FAILED exists, stop the chain.
+# 2. Submit the successor first (sbatch --dependency=afterany:$SLURM_JOB_ID JOB_SCRIPT): it starts
+#    when this segment ends, however it ends (also killed at the time limit), so the chain needs no
+#    signal handling.
+# 3. Continue from the newest complete restart file (one whose step the log shows a later thermo row
+#    for; a file being written when the job was killed is skipped), or start from the case's fill.
+#    The previous segment's log and element statistics are kept as log.upto-<step>.lammps and
+#    elements.upto-<step>.txt (LIGGGHTS would overwrite them); residence and mass-flow records
+#    continue in their files (the fixes append after a restart).
+# 4. After lmp: TSG-DONE in the log -> DONE, the element statistics of all segments merged into
+#    elements.txt, older restart files removed; an ERROR -> FAILED (the successor exits at once);
+#    the same restart file chosen twice in a row -> FAILED (no progress within one job).
+#
+# Environment: TSG_OUT (default runs/<case>-cluster), TSG_LMP (default build/lmp), TSG_LAUNCH (the MPI
+# launcher, default "srun"; "" runs lmp directly), TSG_RESTART_EVERY (steps, default 20000),
+# TSG_VARS (more -var NAME VALUE for lmp), TSG_SBATCH (default sbatch).
+set -euo pipefail
+case_name="$1"
+job_script="$2"
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+out="${TSG_OUT:-$repo/runs/$case_name-cluster}"
+lmp="${TSG_LMP:-$repo/build/lmp}"
+launch="${TSG_LAUNCH-srun}"
+restart_every="${TSG_RESTART_EVERY:-20000}"
+ranks="${SLURM_NTASKS:-1}"
+say() { printf '[segment %s] %s\n' "${SLURM_JOB_ID:-local}" "$*"; }
+
+mkdir -p "$out"
+if [ -f "$out/DONE" ]; then say "$out is done: nothing to run"; exit 0; fi
+if [ -f "$out/FAILED" ]; then say "$out failed before: $(cat "$out/FAILED"); remove FAILED to try again"; exit 1; fi
+[ -x "$lmp" ] || { say "lmp not found: $lmp (./tsg setup builds it; or set TSG_LMP)"; exit 2; }
+
+if [ -n "${SLURM_JOB_ID:-}" ]; then
+  successor=$("${TSG_SBATCH:-sbatch}" --parsable --dependency="afterany:$SLURM_JOB_ID" "$job_script")
+  say "successor submitted: job ${successor%%;*}"
+fi
+
+# newest complete restart file
+last_step=0
+if [ -f "$out/log.lammps" ]; then
+  last_step=$(awk 'NF >= 10 && $1 ~ /^[0-9]+$/ && $2 ~ /^[0-9.eE+-]+$/ { s = $1 } END { print s + 0 }' "$out/log.lammps")
+fi
+restart=""
+for step in $(find "$out" -maxdepth 1 -name 'restart.*' -printf '%f\n' | sed 's/^restart\.//' | grep -E '^[0-9]+$' | sort -n -r); do
+  if [ "$step" -lt "$last_step" ]; then restart="$out/restart.$step"; break; fi
+done
+
+vars=(-var out_dir "$out" -var procs_x "$ranks" -var restart_every "$restart_every")
+if [ -n "$restart" ]; then
+  step="${restart##*.}"
+  if [ -f "$out/last-restart" ] && [ "$(cat "$out/last-restart")" = "$step" ]; then
+    echo "no progress: restart.$step was chosen by the previous segment too (raise --time or lower TSG_RESTART_EVERY)" > "$out/FAILED"
+    say "$(cat "$out/FAILED")"; exit 1
+  fi
+  echo "$step" > "$out/last-restart"
+  mv "$out/log.lammps" "$out/log.upto-$last_step.lammps"
+  [ -f "$out/elements.txt" ] && mv "$out/elements.txt" "$out/elements.upto-$last_step.txt"
+  vars+=(-var start restart -var restart_file "$out/restart.$step")
+  say "continuing from restart.$step (the previous segment reached step $last_step)"
+else
+  say "starting from the fill"
+fi
+
+# shellcheck disable=SC2086  # TSG_LAUNCH and TSG_VARS are word lists
+# run in ${out}: LIGGGHTS writes its start-up log.liggghts, and on SIGTERM (SLURM's time limit) a
+# restart_forced_liggghts_<step>.data, into the working folder
+(cd "$out" && $launch "$lmp" -in "$repo/cases/in.tsg_$case_name" -echo none -var case_dir "$repo/cases" \
+  "${vars[@]}" ${TSG_VARS:-}) || true
+
+if grep -q '^TSG-DONE' "$out/log.lammps" 2>/dev/null; then
+  parts=$(find "$out" -maxdepth 1 -name 'elements.upto-*.txt' -printf '%f\n' | sort -t- -k2 -n | sed "s|^|$out/|")
+  if [ -n "$parts" ]; then   # one file, each sampled step once (a segment repeats its first step)
+    # shellcheck disable=SC2086
+    awk 'FNR <= 3 { if (NR == FNR) print; next }
+         NF == 2 { keep = !($1 in seen); seen[$1] = 1 }
+         keep' $parts "$out/elements.txt" > "$out/elements.merged" && mv "$out/elements.merged" "$out/elements.txt"
+  fi
+  find "$out" -maxdepth 1 -name 'restart.*' -delete
+  touch "$out/DONE"
+  say "run finished: $out (the successor finds DONE and exits)"
+elif grep -q '^ERROR' "$out/log.lammps" 2>/dev/null; then
+  grep -m1 '^ERROR' "$out/log.lammps" > "$out/FAILED"
+  say "lmp stopped with an error: $(cat "$out/FAILED")"
+  exit 1
+else
+  say "segment ended before the run did: the successor continues"
+fi

@@ -1,0 +1,111 @@
+"""The cluster job script continues a run from its newest restart file (cases/slurm/segment.sh):
+sbatch is a stub that records the successor it is asked to submit; segment 1 is killed after it
+wrote restart files (as a job at its time limit), segment 2 continues from the newest complete one
+and finishes; its element statistics, merged with segment 1's, equal those of the same run done in
+one piece; a third segment finds the run done."""
+import os
+import re
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+BUILD = Path(os.environ.get("TSG_BUILD_DIR", ROOT / "build"))
+SEGMENT = ROOT / "cases" / "slurm" / "segment.sh"
+DATA = ROOT / "tests" / "cases" / "inputs" / "fill40.in.data"
+D_MIN = 3.373787550e-04   # m: the smallest diameter of the fill the 40 particles come from (its time step)
+DT = 4.9793e-7            # s: 0.1 of the Rayleigh time of D_MIN (the case's time step)
+
+
+def fill(tmp: Path) -> Path:
+    (tmp / "fill40.in.data").write_bytes(DATA.read_bytes())
+    (tmp / "fill40.in").write_text(
+        "read_data ${fill_file}.data add\nset group all density ${rho_p}\nvariable fill_count equal 40\n"
+        f"variable d_min equal {D_MIN!r}\nvariable fill_d_mean equal 0.0004\nvariable fill_psd_sigma equal 0.05\n"
+        "variable fill_rho_p equal 1263\nvariable fill_domain_length equal 0.0958333333333\n")
+    return tmp / "fill40.in"
+
+
+def environment(tmp: Path, out: Path, job: int, t_sample: float) -> dict[str, str]:
+    stub = tmp / "bin"
+    stub.mkdir(exist_ok=True)
+    (stub / "sbatch").write_text(f'#!/bin/sh\necho "$@" >> {tmp}/sbatch.log\necho 9{job}\n')
+    (stub / "sbatch").chmod(0o755)
+    # the d_min of the 40 particles gives this dt: t_startup 100 steps, then t_sample
+    variables = (f"-var fill_file {fill(tmp)} -var mesh_dir {BUILD / 'meshes' / 'consigma1-periodic-5um'} "
+                 f"-var t_startup {100 * DT!r} -var t_sample {t_sample!r} -var thermo_every 50 -var stats_every 50")
+    return dict(os.environ, PATH=f"{stub}:{os.environ['PATH']}", SLURM_JOB_ID=str(job), SLURM_NTASKS="1",
+                TSG_OUT=str(out), TSG_LAUNCH="", TSG_RESTART_EVERY="200", TSG_VARS=variables,
+                TSG_LMP=os.environ.get("TSG_LMP", str(BUILD / "lmp")))
+
+
+def segment(env: dict[str, str], **kwargs) -> subprocess.Popen:
+    return subprocess.Popen([str(SEGMENT), "periodic", "JOB_SCRIPT"], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, **kwargs)
+
+
+def thermo_steps(log: Path) -> list[int]:
+    return [int(m.group(1)) for m in re.finditer(r"^\s+(\d+)\s+[\d.e+-]+\s+40\s", log.read_text(errors="replace"), re.M)]
+
+
+def elements(path: Path) -> dict[int, np.ndarray]:
+    blocks, step, rows = {}, None, []
+    for line in path.read_text().splitlines():
+        words = line.split()
+        if line.startswith("#") or not words:
+            continue
+        if len(words) == 2:
+            if step is not None:
+                blocks[step] = np.array(rows)
+            step, rows = int(words[0]), []
+        else:
+            rows.append([float(w) for w in words[1:]])
+    blocks[step] = np.array(rows)
+    return blocks
+
+
+def test_a_killed_segment_is_continued_from_its_restart_file(tmp_path):
+    out = tmp_path / "out"
+    # segment 1: a long plan, killed (with the job script, as SLURM does) once a restart file is
+    # complete, i.e. the log shows a thermo row after it
+    first = segment(environment(tmp_path, out, 101, 0.05), start_new_session=True)
+    deadline = time.monotonic() + 600
+    while time.monotonic() < deadline and first.poll() is None:
+        steps = thermo_steps(out / "log.lammps") if (out / "log.lammps").is_file() else []
+        if (out / "restart.200").is_file() and steps and steps[-1] > 200:
+            break
+        time.sleep(0.01)
+    assert first.poll() is None, first.stdout.read()
+    os.killpg(first.pid, signal.SIGKILL)
+    first.wait()
+    assert not (out / "DONE").exists()
+    reached = thermo_steps(out / "log.lammps")[-1]
+    newest = max(int(p.name.split(".")[1]) for p in out.glob("restart.*"))
+    # segment 2: the same run with a plan that ends 300 steps after where segment 1 got
+    end = 100 * ((reached + 300) // 100)
+    t_sample = (end - 100) * DT
+    second = segment(environment(tmp_path, out, 102, t_sample))
+    log2 = second.communicate(timeout=600)[0]
+    assert second.returncode == 0 and (out / "DONE").is_file(), log2
+    continued = int(re.search(r"continuing from restart\.(\d+)", log2).group(1))
+    assert 200 <= continued < reached and continued <= newest, log2
+    steps = thermo_steps(out / "log.lammps")
+    assert steps[0] == continued and steps[-1] == end, steps     # it started at the restart's step
+    assert "Resetting per-atom state of Fix walls Style wall/gran/corotating from restart" in (out / "log.lammps").read_text()
+    assert (out / f"log.upto-{reached}.lammps").is_file() and not list(out.glob("restart.*"))
+    submitted = (tmp_path / "sbatch.log").read_text().splitlines()
+    assert submitted == ["--parsable --dependency=afterany:101 JOB_SCRIPT", "--parsable --dependency=afterany:102 JOB_SCRIPT"]
+    # the same plan in one piece: the merged element statistics agree step by step
+    whole = tmp_path / "whole"
+    reference = segment(environment(tmp_path, whole, 201, t_sample))
+    assert reference.wait(timeout=600) == 0 and (whole / "DONE").is_file()
+    merged, single = elements(out / "elements.txt"), elements(whole / "elements.txt")
+    assert sorted(merged) == sorted(single) == list(range(100, end + 1, 50)), (sorted(merged), sorted(single))
+    for step in single:
+        np.testing.assert_allclose(merged[step], single[step], rtol=1e-9, atol=1e-15, err_msg=f"step {step}")
+    # a successor that starts after the run is done does nothing
+    third = segment(environment(tmp_path, out, 103, t_sample))
+    assert third.wait(timeout=60) == 0 and "is done: nothing to run" in third.stdout.read()

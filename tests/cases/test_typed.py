@@ -1,0 +1,84 @@
+"""The inputs run as typed (issue 17 item 1): after ./tsg setup, `cd cases && mpirun -np N lmp -in
+in.tsg_periodic` runs the seed paper's periodic reference with the case file's defaults - 400 um
+particles, the 1 um meshes, the 2.3 g fill set-up made - here for a few hundred steps (-var times)
+on 1 and 2 ranks; only the output folder is moved out of runs/ (a test must not overwrite a user's
+run)."""
+import os
+import re
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from tsg_analysis.liggghts_log import parse_thermo
+
+ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+LMP = os.environ.get("TSG_LMP", str(ROOT / "build" / "lmp"))
+FILL = ROOT / "build" / "prepared" / "periodic-fill.in"
+
+
+@pytest.mark.parametrize("ranks", [1, 2])
+def test_periodic_reference_runs_as_typed(tmp_path, ranks):
+    assert FILL.is_file() and FILL.with_name(FILL.name + ".data").is_file(), \
+        f"{FILL} is missing: ./tsg setup makes it (step 'paper-scale inputs of the case files')"
+    prefix = [os.environ.get("TSG_MPIEXEC", "mpirun"), "-np", "2", "--oversubscribe", "--allow-run-as-root"] if ranks == 2 else []
+    # 100 start-up and 100 sampling steps of 0.498 us, a thermo row every 50
+    command = prefix + [LMP, "-in", "in.tsg_periodic", "-var", "out_dir", str(tmp_path), "-var", "t_startup", "5e-5",
+                        "-var", "t_sample", "5e-5", "-var", "thermo_every", "50"]
+    proc = subprocess.run(command, cwd=ROOT / "cases", capture_output=True, text=True, timeout=1200,
+                          env=dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"))
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    assert proc.returncode == 0, log[-3000:] + proc.stderr[-2000:]
+    # the paper's values: the TSG-PARAMETERS line and the meshes the defaults name
+    parameters = dict(word.split("=", 1) for word in re.search(r"^TSG-PARAMETERS (.*)$", log, re.M).group(1).split())
+    assert parameters["d_mean"] == "0.0004" and parameters["dt_fraction"] == "0.1" and parameters["rpm"] == "600"
+    assert parameters["mus_pp"] == parameters["mus_pg"] == "0.5" and parameters["e_pp"] == parameters["e_pg"] == "0.5"
+    assert parameters["mesh_dir"].endswith("build/meshes/consigma1-periodic-1um")
+    count = int(re.search(r"variable fill_count equal (\d+)", FILL.read_text()).group(1))
+    mass_g = float(re.search(r"# ([\d.]+) g at rho_p", FILL.read_text()).group(1))
+    assert 2.3 <= mass_g < 2.31 and count > 50000                   # the paper's hold-up of 400 um particles
+    thermo = parse_thermo(log)
+    assert thermo[-1]["Step"][-1] == 200 and thermo[-1]["Atoms"][-1] == count and thermo[-1]["escaped"][-1] == 0
+    assert f"TSG-DONE escaped 0 particles {count}" in log
+    for name in ("residence.txt", "massflow.txt", "elements.txt"):
+        assert (tmp_path / name).is_file(), name                      # outputs in out_dir, none in cases/
+    assert not any((ROOT / "cases" / name).exists() for name in ("residence.txt", "massflow.txt", "elements.txt"))
+
+
+def test_merged_feed_blocks_cover_exactly_the_free_cubes():
+    import numpy as np
+
+    from tsg_cases.prepared import merge_cubes
+    rng = np.random.default_rng(7)
+    side = 0.5
+    cells = np.argwhere(rng.random((9, 7, 5)) < 0.6)            # a grid of free cubes with holes
+    corners = cells * side + np.array([0.1, -2.0, 3.0])
+    blocks = merge_cubes(corners, side)
+    assert len(blocks) < len(corners)
+    centres = corners + side / 2
+    free = {tuple(c) for c in cells}
+    holes = np.array([c for c in np.argwhere(np.ones((9, 7, 5), dtype=bool)) if tuple(c) not in free]) * side \
+        + np.array([0.1, -2.0, 3.0]) + side / 2
+
+    def hits(points):
+        return np.array([[np.all((q > lo) & (q < hi)) for lo, hi in blocks] for q in points]).sum(axis=1)
+    assert np.all(hits(centres) == 1)                             # every free cube in exactly one block
+    assert np.all(hits(holes) == 0)                               # no block covers a cube that is not free
+    assert sum(np.prod(hi - lo) for lo, hi in blocks) == pytest.approx(len(corners) * side ** 3)
+
+
+def test_nonperiodic_subdomain_runs_as_typed(tmp_path):
+    # the paper's non-periodic sub-domain with its defaults (400 um, 1 um meshes, EEPA, fed at the
+    # inlet from the feed blocks set-up made) for 1e-4 s: particles are generated and none escapes
+    feed = ROOT / "build" / "prepared" / "nonperiodic-feed.in"
+    assert feed.is_file(), f"{feed} is missing: ./tsg setup makes it (step 'paper-scale inputs of the case files')"
+    proc = subprocess.run([LMP, "-in", "in.tsg_nonperiodic", "-var", "out_dir", str(tmp_path), "-var", "t_run", "1e-4",
+                           "-var", "thermo_every", "50"], cwd=ROOT / "cases", capture_output=True, text=True, timeout=1200,
+                          env=dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"))
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    assert proc.returncode == 0, log[-3000:] + proc.stderr[-2000:]
+    inserted = int(re.search(r"inserted (\d+) particle templates", log).group(1))
+    thermo = parse_thermo(log)
+    assert inserted > 1000 and thermo[-1]["Atoms"][-1] == inserted and thermo[-1]["escaped"][-1] == 0
+    assert "cohesion=1" in log and "mesh_dir=./../build/meshes/consigma1-nonperiodic-1um" in log
+    assert f"TSG-DONE escaped 0 particles {inserted}" in log
