@@ -27,6 +27,8 @@ RUNNER_SET = {
     "fill_file": "the runner's static fill",
     "feed_file": "the runner's feed regions (--feed-at)",
     "domain_length": "the meshes' zones.txt",
+    "start": "the runner (a run starts from its fill; job segments: cases/slurm)",
+    "restart_file": "the runner (a run starts from its fill; job segments: cases/slurm)",
 }
 
 _INDEX = re.compile(r"^\s*variable\s+(\w+)\s+index\s+(\S+)", re.MULTILINE)

@@ -1,7 +1,7 @@
 """The files the case inputs read that are made from the meshes, made for given case values: the
 static fill of the periodic case and the feed regions of the full and non-periodic cases.
 
-    python -m tsg_cases.prepared defaults            # what ./tsg setup runs: the case files' defaults
+    python -m tsg_cases.prepared defaults [CASE ...] # the case files' defaults (./tsg setup: periodic, nonperiodic)
     python -m tsg_cases.prepared fill OUT.in --mesh-dir DIR [--d-mean 0.0004] [--psd-sigma 0.05]
         [--rho-p 1263] [--holdup-g 2.3] [--seed 12345]
     python -m tsg_cases.prepared feed OUT.in --mesh-dir DIR [--d-mean 0.0004] [--feed-at element:7]
@@ -258,7 +258,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tsg_cases.prepared", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
-    sub.add_parser("defaults", help="make what the case files' default values name (./tsg setup)")
+    d = sub.add_parser("defaults", help="make what the case files' default values name (./tsg setup: periodic, nonperiodic)")
+    d.add_argument("cases", nargs="*", choices=["periodic", "nonperiodic", "full"],
+                   help="the cases to prepare (default: all three)")
     f = sub.add_parser("fill", help="the periodic case's hold-up, placed in the free space")
     g = sub.add_parser("feed", help="the feed regions of the full and non-periodic cases")
     for p in (f, g):
@@ -274,7 +276,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         if args.command == "defaults":
-            prepare_defaults()
+            prepare_defaults(tuple(args.cases) or ("periodic", "nonperiodic", "full"))
             return 0
         for name in ("zones.txt", *free_space.MESHES):
             if not (args.mesh_dir / name).is_file():

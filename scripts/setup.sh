@@ -105,11 +105,13 @@ fi
 # `cd cases && lmp -in in.tsg_periodic` (and in.tsg_full, in.tsg_nonperiodic) runs the paper scale
 # with no other step: the 1 um meshes, the periodic fill and the feed regions its defaults name
 # (build/meshes, build/prepared; cases/prepared.py), and runs/ for its outputs (docs/cluster.md).
+# The full case's 1 um feed regions (about 20 min and 2.6 GB here) are made on demand:
+# `python -m tsg_cases.prepared defaults full` (in.tsg_full prints the command when they are missing).
 current_step="paper-scale inputs of the case files"
 step "$current_step"
 if [ "$(realpath -m "$build_dir")" = "$root/build" ]; then
   mkdir -p runs
-  .venv/bin/python -m tsg_cases.prepared defaults \
+  .venv/bin/python -m tsg_cases.prepared defaults periodic nonperiodic \
     || fail "preparing the case files' default inputs failed (see the message above). Re-run to resume."
 else
   echo "skipped: the case files' defaults name build/, not TSG_BUILD_DIR=$build_dir (pass -var mesh_dir/fill_file/feed_file)"

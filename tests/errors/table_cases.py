@@ -20,7 +20,7 @@ def runner(case: str, *options: str) -> list[str]:
 
 def lmp(case: str, **variables: object) -> list[str]:
     command = ["{lmp}", "-in", f"{{root}}/cases/in.tsg_{case}", "-echo", "none",
-               "-var", "case_dir", "{root}/cases", "-var", "mesh_dir", str(MESHES[case])]
+               "-var", "case_dir", "{root}/cases", "-var", "mesh_dir", str(MESHES[case]), "-var", "out_dir", "{tmp}"]
     for name, value in variables.items():
         command += ["-var", name, str(value)]
     return command

@@ -90,7 +90,8 @@ def case_var(case: str, name: str, value: str, words: tuple[str, ...], why: str)
     """The case input itself with one more -var; a one-particle fill or a one-cube feed stands in for
     the generated include, so the row takes about a second."""
     command = ["{lmp}", "-in", f"{{root}}/cases/in.tsg_{case}", "-echo", "none", "-log", "log.lammps",
-               "-var", "case_dir", "{root}/cases", "-var", "mesh_dir", str(BUILD / "meshes" / f"consigma1-{case}-5um")]
+               "-var", "case_dir", "{root}/cases", "-var", "mesh_dir", str(BUILD / "meshes" / f"consigma1-{case}-5um"),
+               "-var", "out_dir", "{tmp}"]
     files = {}
     if CASE_FILES[case] is not None:
         variable, file_name, content = CASE_FILES[case]
