@@ -27,7 +27,7 @@ from tsg_analysis.summary import summary_table
 from tsg_cases import free_space
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
-from tsg_meshes.build import tolerance_tag
+from tsg_meshes.build import mesh_dir_name
 from tsg_meshes.machine import MACHINE_FILE
 
 CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiodic", "full": "consigma1-full"}
@@ -35,20 +35,17 @@ CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiod
 # 2 cores (docs/cases.md explains the choices); paper: the seed paper's 400 um particles. Both with
 # the mesh tolerance at 1 % of the smallest radius (demo 0.42 mm -> 4 um, paper 0.1 mm -> 1 um).
 SCALES: dict[str, dict[str, Any]] = {
-    "demo": {"tolerance": 4e-6,
-             # mus_pg 0.1: the 1 mm particles are 2.3-2.6 x the clearances, and friction 0.5 draws them
-             # into the flight-tip clearance (nip criterion). Even so, particles are pinched where a
-             # disc tip passes a barrel cusp: overlaps set by geometry (up to about (d_max - gap)/2
-             # per wall) and release speeds of tens of m/s (measured: 52 m/s at 29 ms). The guards
-             # here catch only a runaway (a centre on a wall, pair δ/R 1.5, 500 m/s = 1.2 mm per
-             # step); the paper scale keeps 0.5 / 0.5 / 10 x tip speed. The demo shows the method,
-             # not physical pinch contacts (docs/stability-demo.md).
-             "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000,
-                      "mus_pg": 0.1, "guard_max_wall_overlap": 1.0, "guard_max_pair_overlap": 1.5,
-                      "guard_max_speed": 500},
+    # demo: a clearance-scaled machine (docs/stability-demo.md). The paper's clearances (0.44 mm tip to
+    # barrel, 0.35 mm screw to screw) are 2.3-2.6 x smaller than the demo's 1 mm particles (largest
+    # 1.16 mm), so a prescribed screw pinches them against the barrel or the other screw whatever the
+    # contact law; with both gaps 1.4 mm (1.2 x the largest particle, same barrel and centre
+    # distance, smaller screws) no particle is geometrically pinched, and the paper's friction and
+    # guards apply.
+    "demo": {"tolerance": 4e-6, "clearance": 1.4e-3,
+             "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},
                        "full": {"t_sample": 0.5, "t_max_startup": 10.0}}},
-    "paper": {"tolerance": 1e-6,
+    "paper": {"tolerance": 1e-6, "clearance": None,
               "vars": {"d_mean": 0.0004, "dt_fraction": 0.1, "thermo_every": 10000, "stats_every": 10000},
               "times": {"periodic": {"t_startup": 0.5, "t_sample": 1.0}, "nonperiodic": {"t_run": 5.0},
                         "full": {"t_sample": 1.0, "t_max_startup": 10.0}}},
@@ -63,10 +60,11 @@ class UserError(Exception):
     """A mistake in the options: one line for the user, no traceback (unless --debug)."""
 
 
-def build_meshes(config: str, tolerance: float) -> Path:
-    out = ROOT / "build" / "meshes" / f"{config}-{tolerance_tag(tolerance)}"
+def build_meshes(config: str, tolerance: float, clearance: float | None) -> Path:
+    out = ROOT / "build" / "meshes" / mesh_dir_name(config, tolerance, clearance)
     if not (out / "zones.txt").is_file() or not (out / MACHINE_FILE).is_file():
-        proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), "--tolerance", str(tolerance)],
+        options = ["--tolerance", str(tolerance)] + (["--clearance", str(clearance)] if clearance is not None else [])
+        proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), *options],
                               capture_output=True, text=True)
         if proc.returncode != 0:
             last = proc.stderr.strip().splitlines()[-1:] or ["no message"]
@@ -139,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
     except OSError as problem:
         raise UserError(f"--out {args.out}: cannot write there ({problem.strerror})") from None
 
-    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"])
+    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"], scale["clearance"])
     zones = read_zones(mesh_dir / "zones.txt")
     length = float(zones.x_end[-1])
     d_mean = float(effective["d_mean"])

@@ -33,6 +33,7 @@ class BuiltGeometry:
     tolerance: float
     screws: tuple[TriangleMesh, TriangleMesh]
     barrel: TriangleMesh
+    profile: ScrewProfile = ScrewProfile()
 
     @property
     def length(self) -> float:
@@ -66,7 +67,7 @@ def generate(configuration: ScrewConfiguration, tolerance: float = DEFAULT_TOLER
     screws = (build_screw(configuration, polyline, 1, tolerance, profile),
               build_screw(configuration, polyline, 2, tolerance, profile))
     barrel = build_barrel(float(configuration.length_mm) / 1000, configuration.ends == "inlet-wall", tolerance)
-    geometry = BuiltGeometry(configuration, tolerance, screws, barrel)
+    geometry = BuiltGeometry(configuration, tolerance, screws, barrel, profile)
     for name, mesh in geometry.meshes().items():
         check_liggghts_constraints(mesh, f"{configuration.name}/{name}")
     return geometry
@@ -91,7 +92,7 @@ def write_geometry(geometry: BuiltGeometry, outdir: Path | str) -> list[Path]:
     zones = outdir / "zones.txt"
     zones.write_text(zones_text(geometry), encoding="ascii")
     machine = outdir / MACHINE_FILE
-    machine.write_text(machine_text(), encoding="ascii")
+    machine.write_text(machine_text(geometry.profile), encoding="ascii")
     return written + [zones, machine]
 
 
@@ -102,7 +103,7 @@ def free_area(profile: ScrewProfile = ScrewProfile(), bore: TwinBore = TwinBore(
 
 def zones_text(geometry: BuiltGeometry) -> str:
     configuration = geometry.configuration
-    area = free_area()
+    area = free_area(geometry.profile)
     half = CENTRE_DISTANCE / 2
     lines = [
         f"# tsg_meshes zones: {configuration.name} ({' '.join(configuration.tokens)}), ends {configuration.ends}, "
@@ -125,6 +126,14 @@ def tolerance_tag(tolerance: float) -> str:
     return f"{np.format_float_positional(tolerance * 1e6, trim='-')}um"
 
 
+def mesh_dir_name(configuration_name: str, tolerance: float, clearance: float | None = None) -> str:
+    """<name>-<tolerance>um for the paper's machine, + -c<clearance>mm for a clearance-scaled one."""
+    name = f"{configuration_name}-{tolerance_tag(tolerance)}"
+    if clearance is None:
+        return name
+    return f"{name}-c{np.format_float_positional(round(clearance * 1e3, 9), trim='-')}mm"
+
+
 def build_all(outdir: Path | str) -> list[Path]:
     """Every shipped configuration at the default tolerance, and the periodic kneading-block
     domain also at the paper-scale tolerance; each into <outdir>/<name>-<tolerance>um/."""
@@ -135,5 +144,5 @@ def build_all(outdir: Path | str) -> list[Path]:
     for path, tolerance in builds:
         configuration = read_spec(path)
         geometry = generate(configuration, tolerance)
-        written += write_geometry(geometry, outdir / f"{configuration.name}-{tolerance_tag(tolerance)}")
+        written += write_geometry(geometry, outdir / mesh_dir_name(configuration.name, tolerance))
     return written

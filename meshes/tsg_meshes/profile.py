@@ -18,6 +18,12 @@ CENTRE_DISTANCE = 19.31e-3
 BORE_RADIUS = 12.5e-3
 LEAD = 25.0e-3
 FLIGHTS = 2
+# Clearances of the paper's machine: flight tip to barrel, and tip of one screw to the root of the other
+BARREL_CLEARANCE = BORE_RADIUS - OUTER_RADIUS      # 0.44 mm
+SCREW_CLEARANCE = CENTRE_DISTANCE - OUTER_RADIUS - ROOT_RADIUS   # 0.35 mm
+# Largest clearance of a clearance-scaled machine: keeps the root radius below the tip radius and the
+# tip arc well open (at c = 3 mm: r_a 9.5 mm, r_i 6.81 mm, tip angle 28 deg)
+MAX_CLEARANCE = 3e-3
 
 
 @dataclass(frozen=True)
@@ -132,6 +138,20 @@ class ScrewProfile:
                 rotated = Arc(_rotate_point(arc.centre, turn), arc.radius, arc.start + turn, arc.sweep)
                 best = np.minimum(best, rotated.distance(points))
         return best
+
+
+def profile_for_clearance(clearance: float | None) -> ScrewProfile:
+    """The paper's profile (clearance None), or one whose flight-tip/barrel gap and screw/screw gap
+    are both `clearance`, in the same barrel (bore radius and centre distance unchanged):
+    r_a = R_b - c, and r_i = a - r_a - c, so the Booy profile is self-wiping at a - c and the two
+    screws, a apart, keep a gap c between tip and root (and between the flanks: the wiping contact's
+    common normal is parallel to the line of centres). With equal gaps r_i = a - R_b for every c."""
+    if clearance is None:
+        return ScrewProfile()
+    if not 0.0 < clearance <= MAX_CLEARANCE:
+        raise ValueError(f"clearance {clearance:g} m is outside the allowed range (0, {MAX_CLEARANCE:g}] m")
+    outer = BORE_RADIUS - clearance
+    return ScrewProfile(outer_radius=outer, root_radius=CENTRE_DISTANCE - outer - clearance)
 
 
 def _rotate_point(point: tuple[float, float], angle: float) -> tuple[float, float]:
