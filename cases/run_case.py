@@ -28,7 +28,7 @@ from tsg_cases import free_space
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
 from tsg_meshes.build import mesh_dir_name
-from tsg_meshes.machine import MACHINE_FILE
+from tsg_meshes.machine import MACHINE_FILE, machine_file_complete
 
 CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiodic", "full": "consigma1-full"}
 # Scales. demo: coarse particles so that the periodic case gives per-element results in minutes on
@@ -62,7 +62,7 @@ class UserError(Exception):
 
 def build_meshes(config: str, tolerance: float, clearance: float | None) -> Path:
     out = ROOT / "build" / "meshes" / mesh_dir_name(config, tolerance, clearance)
-    if not (out / "zones.txt").is_file() or not (out / MACHINE_FILE).is_file():
+    if not (out / "zones.txt").is_file() or not machine_file_complete(out):
         options = ["--tolerance", str(tolerance)] + (["--clearance", str(clearance)] if clearance is not None else [])
         proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), *options],
                               capture_output=True, text=True)

@@ -83,17 +83,24 @@ def check_liggghts_constraints(mesh: TriangleMesh, label: str) -> None:
 
 
 def write_geometry(geometry: BuiltGeometry, outdir: Path | str) -> list[Path]:
+    """Write the meshes, zones.txt and machine.in (machine.in last: its presence with every key marks
+    a complete directory). Each file is written beside its target and renamed over it, so a rebuild
+    replaces files instead of rewriting them in place (a hard-linked copy keeps its old content)."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     written = []
     for name, mesh in geometry.meshes().items():
-        write_ascii_stl(mesh, outdir / name, solid_name=Path(name).stem)
-        written.append(outdir / name)
-    zones = outdir / "zones.txt"
-    zones.write_text(zones_text(geometry), encoding="ascii")
-    machine = outdir / MACHINE_FILE
-    machine.write_text(machine_text(geometry.profile), encoding="ascii")
-    return written + [zones, machine]
+        write_ascii_stl(mesh, outdir / f"{name}.part", solid_name=Path(name).stem)
+        written.append(_finish(outdir / f"{name}.part"))
+    (outdir / "zones.txt.part").write_text(zones_text(geometry), encoding="ascii")
+    (outdir / f"{MACHINE_FILE}.part").write_text(machine_text(geometry.profile), encoding="ascii")
+    return written + [_finish(outdir / "zones.txt.part"), _finish(outdir / f"{MACHINE_FILE}.part")]
+
+
+def _finish(part: Path) -> Path:
+    target = part.with_suffix("")
+    part.replace(target)
+    return target
 
 
 def free_area(profile: ScrewProfile = ScrewProfile(), bore: TwinBore = TwinBore()) -> float:

@@ -53,3 +53,13 @@ def read_machine(path: Path | str) -> dict[str, float]:
     if missing:
         raise ValueError(f"{path}: lacks {', '.join(sorted(missing))} (rebuild the meshes: ./tsg setup)")
     return values
+
+
+def machine_file_complete(path: Path | str) -> bool:
+    """Whether a directory (or file) has a machine.in with every key of this version (an older
+    build lacks the clearances: rebuild it)."""
+    try:
+        read_machine(path)
+    except (OSError, ValueError):
+        return False
+    return True
