@@ -35,17 +35,17 @@ CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiod
 # 2 cores (docs/cases.md explains the choices); paper: the seed paper's 400 um particles. Both with
 # the mesh tolerance at 1 % of the smallest radius (demo 0.42 mm -> 4 um, paper 0.1 mm -> 1 um).
 SCALES: dict[str, dict[str, Any]] = {
-    # demo: a clearance-scaled machine (docs/stability-demo.md). The paper's clearances (0.44 mm tip to
-    # barrel, 0.35 mm screw to screw) are 2.3-2.6 x smaller than the demo's 1 mm particles (largest
-    # 1.16 mm), so a prescribed screw pinches them against the barrel or the other screw whatever the
-    # contact law; with both gaps 1.4 mm (1.2 x the largest particle, same barrel and centre
-    # distance, smaller screws) no particle is geometrically pinched, and the paper's friction and
-    # guards apply.
-    "demo": {"tolerance": 4e-6, "clearance": 1.4e-3,
+    # demo: a clearance-scaled machine (docs/stability-demo.md). The paper's gaps (0.44 mm tip to
+    # barrel; 0.35 mm screw to screw in a section, 0.17 mm in 3D between conveying flights) are far
+    # smaller than the demo's 1 mm particles (largest 1.16 mm), so a prescribed screw pinches them
+    # whatever the contact law. Same barrel and centre distance, smaller screws: tip to barrel
+    # 1.4 mm, screw to screw 2.8 mm in a section = 1.44 mm in 3D between conveying flights, i.e.
+    # >= 1.2 x the largest particle; the paper's friction and guards apply.
+    "demo": {"tolerance": 4e-6, "clearance": (1.4e-3, 2.8e-3),
              "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},
                        "full": {"t_sample": 0.5, "t_max_startup": 10.0}}},
-    "paper": {"tolerance": 1e-6, "clearance": None,
+    "paper": {"tolerance": 1e-6, "clearance": (None, None),
               "vars": {"d_mean": 0.0004, "dt_fraction": 0.1, "thermo_every": 10000, "stats_every": 10000},
               "times": {"periodic": {"t_startup": 0.5, "t_sample": 1.0}, "nonperiodic": {"t_run": 5.0},
                         "full": {"t_sample": 1.0, "t_max_startup": 10.0}}},
@@ -60,10 +60,14 @@ class UserError(Exception):
     """A mistake in the options: one line for the user, no traceback (unless --debug)."""
 
 
-def build_meshes(config: str, tolerance: float, clearance: float | None) -> Path:
-    out = ROOT / "build" / "meshes" / mesh_dir_name(config, tolerance, clearance)
+def build_meshes(config: str, tolerance: float, clearance: tuple[float | None, float | None]) -> Path:
+    """The scale's mesh directory under build/meshes, built if missing or incomplete; `clearance` is
+    (flight tip to barrel, screw to screw) in m, None for the paper's."""
+    out = ROOT / "build" / "meshes" / mesh_dir_name(config, tolerance, *clearance)
     if not (out / "zones.txt").is_file() or not machine_file_complete(out):
-        options = ["--tolerance", str(tolerance)] + (["--clearance", str(clearance)] if clearance is not None else [])
+        options = ["--tolerance", str(tolerance)]
+        for option, value in zip(("--clearance", "--screw-clearance"), clearance):
+            options += [option, str(value)] if value is not None else []
         proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), *options],
                               capture_output=True, text=True)
         if proc.returncode != 0:

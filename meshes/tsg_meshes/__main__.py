@@ -1,4 +1,5 @@
-"""Command line: python -m tsg_meshes build <config> <outdir> [--tolerance M] [--clearance M] | build-all <outdir> | render <imgdir>."""
+"""Command line: python -m tsg_meshes build <config> <outdir> [--tolerance M] [--clearance M [--screw-clearance M]]
+| build-all <outdir> | render <imgdir>."""
 from __future__ import annotations
 
 import argparse
@@ -56,8 +57,11 @@ def main(argv: list[str] | None = None) -> int:
     build.add_argument("--tolerance", type=tolerance, default=DEFAULT_TOLERANCE,
                        help=f"largest chordal deviation from the exact surface, metres (default {DEFAULT_TOLERANCE:g})")
     build.add_argument("--clearance", type=clearance,
-                       help="flight-tip/barrel and screw/screw gap, metres, with the same barrel and centre "
-                            "distance (smaller screws); default: the paper's machine, 0.44 and 0.35 mm")
+                       help="flight-tip/barrel gap, metres, with the same barrel and centre distance (smaller "
+                            "screws); default: the paper's machine, 0.44 mm")
+    build.add_argument("--screw-clearance", type=clearance,
+                       help="tip/root gap between the screws in an axial section, metres (default: --clearance "
+                            "if given, else the paper's 0.35 mm)")
     everything = commands.add_parser("build-all", help="build every shipped configuration into <outdir>/<name>-<tol>um/")
     everything.add_argument("outdir", type=Path)
     render = commands.add_parser("render", help="PNG renders of element types and assembled screws")
@@ -73,7 +77,7 @@ def main(argv: list[str] | None = None) -> int:
                 check_output_dir(target)
         if args.command == "build":
             geometry = generate(read_spec(resolve_config(args.config)), args.tolerance,
-                                profile_for_clearance(args.clearance))
+                                profile_for_clearance(args.clearance, args.screw_clearance))
             written = write_geometry(geometry, args.outdir)
         elif args.command == "build-all":
             written = build_all(args.outdir)

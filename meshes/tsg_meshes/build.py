@@ -9,7 +9,7 @@ import numpy as np
 
 from .barrel import build_barrel
 from .machine import MACHINE_FILE, machine_text
-from .profile import CENTRE_DISTANCE, ScrewProfile, TwinBore
+from .profile import BORE_RADIUS, CENTRE_DISTANCE, ScrewProfile, TwinBore, profile_for_clearance
 from .screw import build_screw, sample_profile
 from .spec import ROTATION_SENSE, ScrewConfiguration, read_spec
 from .surface import TriangleMesh, edge_neighbour_counts, smallest_angles_deg, write_ascii_stl
@@ -133,12 +133,17 @@ def tolerance_tag(tolerance: float) -> str:
     return f"{np.format_float_positional(tolerance * 1e6, trim='-')}um"
 
 
-def mesh_dir_name(configuration_name: str, tolerance: float, clearance: float | None = None) -> str:
-    """<name>-<tolerance>um for the paper's machine, + -c<clearance>mm for a clearance-scaled one."""
+def mesh_dir_name(configuration_name: str, tolerance: float, barrel_clearance: float | None = None,
+                  screw_clearance: float | None = None) -> str:
+    """<name>-<tolerance>um for the paper's machine; + -c<barrel>mm for a clearance-scaled one with
+    equal gaps, -c<barrel>-<screw>mm with different gaps (clearances as profile_for_clearance)."""
     name = f"{configuration_name}-{tolerance_tag(tolerance)}"
-    if clearance is None:
+    if barrel_clearance is None and screw_clearance is None:
         return name
-    return f"{name}-c{np.format_float_positional(round(clearance * 1e3, 9), trim='-')}mm"
+    profile = profile_for_clearance(barrel_clearance, screw_clearance)
+    gaps = [BORE_RADIUS - profile.outer_radius, CENTRE_DISTANCE - profile.outer_radius - profile.root_radius]
+    tags = [np.format_float_positional(round(gap * 1e3, 6), trim='-') for gap in gaps]
+    return f"{name}-c{tags[0]}mm" if tags[0] == tags[1] else f"{name}-c{tags[0]}-{tags[1]}mm"
 
 
 def build_all(outdir: Path | str) -> list[Path]:

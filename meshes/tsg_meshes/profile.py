@@ -21,8 +21,8 @@ FLIGHTS = 2
 # Clearances of the paper's machine: flight tip to barrel, and tip of one screw to the root of the other
 BARREL_CLEARANCE = BORE_RADIUS - OUTER_RADIUS      # 0.44 mm
 SCREW_CLEARANCE = CENTRE_DISTANCE - OUTER_RADIUS - ROOT_RADIUS   # 0.35 mm
-# Largest clearance of a clearance-scaled machine: keeps the root radius below the tip radius and the
-# tip arc well open (at c = 3 mm: r_a 9.5 mm, r_i 6.81 mm, tip angle 28 deg)
+# Largest clearance of a clearance-scaled machine: keeps the root below the tip radius and the tip
+# arc open (both 3 mm: r_a 9.5 mm, r_i 6.81 mm, tip angle 28 deg; 1.4 and 3 mm: 11.1, 5.21 mm, 4.6 deg)
 MAX_CLEARANCE = 3e-3
 
 
@@ -140,18 +140,25 @@ class ScrewProfile:
         return best
 
 
-def profile_for_clearance(clearance: float | None) -> ScrewProfile:
-    """The paper's profile (clearance None), or one whose flight-tip/barrel gap and screw/screw gap
-    are both `clearance`, in the same barrel (bore radius and centre distance unchanged):
-    r_a = R_b - c, and r_i = a - r_a - c, so the Booy profile is self-wiping at a - c and the two
-    screws, a apart, keep a gap c between tip and root (and between the flanks: the wiping contact's
-    common normal is parallel to the line of centres). With equal gaps r_i = a - R_b for every c."""
-    if clearance is None:
+def profile_for_clearance(barrel_clearance: float | None, screw_clearance: float | None = None) -> ScrewProfile:
+    """The paper's profile (both None), or one with flight-tip/barrel gap `barrel_clearance` and
+    tip/root gap between the screws `screw_clearance` (default: the barrel clearance), in the same
+    barrel (bore radius and centre distance unchanged): r_a = R_b - c_barrel and
+    r_i = a - r_a - c_screw, so the Booy profile is self-wiping at a - c_screw and the two screws, a
+    apart, keep c_screw between them in every axial section (the wiping contact's common normal is
+    parallel to the line of centres). In 3D a helical flight's normal leans out of the section, so
+    the gap between conveying flights is smaller than c_screw (docs/stability-demo.md)."""
+    if barrel_clearance is None and screw_clearance is None:
         return ScrewProfile()
-    if not 0.0 < clearance <= MAX_CLEARANCE:
-        raise ValueError(f"clearance {clearance:g} m is outside the allowed range (0, {MAX_CLEARANCE:g}] m")
-    outer = BORE_RADIUS - clearance
-    return ScrewProfile(outer_radius=outer, root_radius=CENTRE_DISTANCE - outer - clearance)
+    if barrel_clearance is None:
+        barrel_clearance = BARREL_CLEARANCE
+    if screw_clearance is None:
+        screw_clearance = barrel_clearance
+    for name, value in (("barrel clearance", barrel_clearance), ("screw clearance", screw_clearance)):
+        if not 0.0 < value <= MAX_CLEARANCE:
+            raise ValueError(f"{name} {value:g} m is outside the allowed range (0, {MAX_CLEARANCE:g}] m")
+    outer = BORE_RADIUS - barrel_clearance
+    return ScrewProfile(outer_radius=outer, root_radius=CENTRE_DISTANCE - outer - screw_clearance)
 
 
 def _rotate_point(point: tuple[float, float], angle: float) -> tuple[float, float]:
