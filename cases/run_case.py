@@ -38,14 +38,16 @@ SCALES: dict[str, dict[str, Any]] = {
     # demo: a clearance-scaled machine (docs/stability-demo.md). The paper's gaps (0.44 mm tip to
     # barrel; 0.35 mm screw to screw in a section, 0.17 mm in 3D between conveying flights) are far
     # smaller than the demo's 1 mm particles (largest 1.16 mm), so a prescribed screw pinches them
-    # whatever the contact law. Same barrel and centre distance, smaller screws: tip to barrel
-    # 1.4 mm, screw to screw 2.8 mm in a section = 1.44 mm in 3D between conveying flights, i.e.
+    # whatever the contact law; and where two staggered discs meet, screw 1's disc and screw 2's
+    # next disc slide past each other in one plane (a scissor, any clearance). Same barrel and centre
+    # distance, smaller screws: tip to barrel 1.4 mm, screw to screw 2.8 mm in a section = 1.44 mm
+    # in 3D between conveying flights, and a 1.4 mm spacer between staggered discs: every gap
     # >= 1.2 x the largest particle; the paper's friction and guards apply.
-    "demo": {"tolerance": 4e-6, "clearance": (1.4e-3, 2.8e-3),
+    "demo": {"tolerance": 4e-6, "clearance": (1.4e-3, 2.8e-3, 1.4e-3),
              "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},
                        "full": {"t_sample": 0.5, "t_max_startup": 10.0}}},
-    "paper": {"tolerance": 1e-6, "clearance": (None, None),
+    "paper": {"tolerance": 1e-6, "clearance": (None, None, 0.0),
               "vars": {"d_mean": 0.0004, "dt_fraction": 0.1, "thermo_every": 10000, "stats_every": 10000},
               "times": {"periodic": {"t_startup": 0.5, "t_sample": 1.0}, "nonperiodic": {"t_run": 5.0},
                         "full": {"t_sample": 1.0, "t_max_startup": 10.0}}},
@@ -60,14 +62,15 @@ class UserError(Exception):
     """A mistake in the options: one line for the user, no traceback (unless --debug)."""
 
 
-def build_meshes(config: str, tolerance: float, clearance: tuple[float | None, float | None]) -> Path:
+def build_meshes(config: str, tolerance: float, clearance: tuple[float | None, float | None, float]) -> Path:
     """The scale's mesh directory under build/meshes, built if missing or incomplete; `clearance` is
-    (flight tip to barrel, screw to screw) in m, None for the paper's."""
+    (flight tip to barrel, screw to screw, spacer between staggered discs) in m, None (0 for the
+    spacer) for the paper's."""
     out = ROOT / "build" / "meshes" / mesh_dir_name(config, tolerance, *clearance)
     if not (out / "zones.txt").is_file() or not machine_file_complete(out):
         options = ["--tolerance", str(tolerance)]
-        for option, value in zip(("--clearance", "--screw-clearance"), clearance):
-            options += [option, str(value)] if value is not None else []
+        for option, value in zip(("--clearance", "--screw-clearance", "--disc-gap"), clearance):
+            options += [option, str(value)] if value else []
         proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), *options],
                               capture_output=True, text=True)
         if proc.returncode != 0:

@@ -1,4 +1,4 @@
-"""Command line: python -m tsg_meshes build <config> <outdir> [--tolerance M] [--clearance M [--screw-clearance M]]
+"""Command line: python -m tsg_meshes build <config> <outdir> [--tolerance M] [--clearance M] [--screw-clearance M] [--disc-gap M]
 | build-all <outdir> | render <imgdir>."""
 from __future__ import annotations
 
@@ -62,6 +62,9 @@ def main(argv: list[str] | None = None) -> int:
     build.add_argument("--screw-clearance", type=clearance,
                        help="tip/root gap between the screws in an axial section, metres (default: --clearance "
                             "if given, else the paper's 0.35 mm)")
+    build.add_argument("--disc-gap", type=clearance, default=0.0,
+                       help="axial spacer between staggered discs, metres (default 0: the discs touch, as in "
+                            "the paper's machine)")
     everything = commands.add_parser("build-all", help="build every shipped configuration into <outdir>/<name>-<tol>um/")
     everything.add_argument("outdir", type=Path)
     render = commands.add_parser("render", help="PNG renders of element types and assembled screws")
@@ -77,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
                 check_output_dir(target)
         if args.command == "build":
             geometry = generate(read_spec(resolve_config(args.config)), args.tolerance,
-                                profile_for_clearance(args.clearance, args.screw_clearance))
+                                profile_for_clearance(args.clearance, args.screw_clearance), args.disc_gap)
             written = write_geometry(geometry, args.outdir)
         elif args.command == "build-all":
             written = build_all(args.outdir)

@@ -34,6 +34,7 @@ class BuiltGeometry:
     screws: tuple[TriangleMesh, TriangleMesh]
     barrel: TriangleMesh
     profile: ScrewProfile = ScrewProfile()
+    disc_gap: float = 0.0
 
     @property
     def length(self) -> float:
@@ -60,14 +61,14 @@ def shipped_configs() -> list[Path]:
 
 
 def generate(configuration: ScrewConfiguration, tolerance: float = DEFAULT_TOLERANCE,
-             profile: ScrewProfile = ScrewProfile()) -> BuiltGeometry:
+             profile: ScrewProfile = ScrewProfile(), disc_gap: float = 0.0) -> BuiltGeometry:
     if not 0 < tolerance <= MAX_TOLERANCE:
         raise ValueError(f"tolerance {tolerance} m is outside (0, {MAX_TOLERANCE:g}] m")
     polyline = sample_profile(profile, tolerance, configuration.staggers_deg)
-    screws = (build_screw(configuration, polyline, 1, tolerance, profile),
-              build_screw(configuration, polyline, 2, tolerance, profile))
+    screws = (build_screw(configuration, polyline, 1, tolerance, profile, disc_gap),
+              build_screw(configuration, polyline, 2, tolerance, profile, disc_gap))
     barrel = build_barrel(float(configuration.length_mm) / 1000, configuration.ends == "inlet-wall", tolerance)
-    geometry = BuiltGeometry(configuration, tolerance, screws, barrel, profile)
+    geometry = BuiltGeometry(configuration, tolerance, screws, barrel, profile, disc_gap)
     for name, mesh in geometry.meshes().items():
         check_liggghts_constraints(mesh, f"{configuration.name}/{name}")
     return geometry
@@ -93,7 +94,7 @@ def write_geometry(geometry: BuiltGeometry, outdir: Path | str) -> list[Path]:
         write_ascii_stl(mesh, outdir / f"{name}.part", solid_name=Path(name).stem)
         written.append(_finish(outdir / f"{name}.part"))
     (outdir / "zones.txt.part").write_text(zones_text(geometry), encoding="ascii")
-    (outdir / f"{MACHINE_FILE}.part").write_text(machine_text(geometry.profile), encoding="ascii")
+    (outdir / f"{MACHINE_FILE}.part").write_text(machine_text(geometry.profile, geometry.disc_gap), encoding="ascii")
     return written + [_finish(outdir / "zones.txt.part"), _finish(outdir / f"{MACHINE_FILE}.part")]
 
 
@@ -134,16 +135,23 @@ def tolerance_tag(tolerance: float) -> str:
 
 
 def mesh_dir_name(configuration_name: str, tolerance: float, barrel_clearance: float | None = None,
-                  screw_clearance: float | None = None) -> str:
+                  screw_clearance: float | None = None, disc_gap: float = 0.0) -> str:
     """<name>-<tolerance>um for the paper's machine; + -c<barrel>mm for a clearance-scaled one with
-    equal gaps, -c<barrel>-<screw>mm with different gaps (clearances as profile_for_clearance)."""
+    equal gaps, -c<barrel>-<screw>mm with different gaps (clearances as profile_for_clearance),
+    + -g<gap>mm with spacers between staggered discs."""
     name = f"{configuration_name}-{tolerance_tag(tolerance)}"
+    if disc_gap:
+        return f"{mesh_dir_name(configuration_name, tolerance, barrel_clearance, screw_clearance)}-g{_mm(disc_gap)}mm"
     if barrel_clearance is None and screw_clearance is None:
         return name
     profile = profile_for_clearance(barrel_clearance, screw_clearance)
     gaps = [BORE_RADIUS - profile.outer_radius, CENTRE_DISTANCE - profile.outer_radius - profile.root_radius]
-    tags = [np.format_float_positional(round(gap * 1e3, 6), trim='-') for gap in gaps]
+    tags = [_mm(gap) for gap in gaps]
     return f"{name}-c{tags[0]}mm" if tags[0] == tags[1] else f"{name}-c{tags[0]}-{tags[1]}mm"
+
+
+def _mm(length: float) -> str:
+    return np.format_float_positional(round(length * 1e3, 6), trim='-')
 
 
 def build_all(outdir: Path | str) -> list[Path]:
