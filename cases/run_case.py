@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import shutil
 import subprocess
 import sys
@@ -27,6 +28,7 @@ from tsg_analysis.summary import summary_table
 from tsg_cases import free_space
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
+from tsg_cases.psd import size_classes
 from tsg_meshes.build import mesh_dir_name
 from tsg_meshes.machine import MACHINE_FILE, machine_file_complete
 
@@ -42,12 +44,13 @@ SCALES: dict[str, dict[str, Any]] = {
     # next disc slide past each other in one plane (a scissor, any clearance). Same barrel and centre
     # distance, smaller screws: tip to barrel 1.4 mm, screw to screw 2.8 mm in a section = 1.44 mm
     # in 3D between conveying flights, and a 1.4 mm spacer between staggered discs: every gap
-    # >= 1.2 x the largest particle; the paper's friction and guards apply.
-    "demo": {"tolerance": 4e-6, "clearance": (1.4e-3, 2.8e-3, 1.4e-3),
+    # >= 1.2 x the largest particle; the paper's friction and guards apply. The machine follows the
+    # particles (machine_clearances): -v d_mean 0.0015 gets 2.1 / 4.2 / 2.1 mm.
+    "demo": {"tolerance": 4e-6, "gap_factor": 1.2,
              "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},
                        "full": {"t_sample": 0.5, "t_max_startup": 10.0}}},
-    "paper": {"tolerance": 1e-6, "clearance": (None, None, 0.0),
+    "paper": {"tolerance": 1e-6, "gap_factor": None,
               "vars": {"d_mean": 0.0004, "dt_fraction": 0.1, "thermo_every": 10000, "stats_every": 10000},
               "times": {"periodic": {"t_startup": 0.5, "t_sample": 1.0}, "nonperiodic": {"t_run": 5.0},
                         "full": {"t_sample": 1.0, "t_max_startup": 10.0}}},
@@ -56,10 +59,24 @@ SCALES: dict[str, dict[str, Any]] = {
 # solid fraction of the full granulator at 14.4 kg/h (about 0.044: 12 g over 500 mm, Section 3)
 # gives 2.3 g. Override with --holdup-g (e.g. from a full run's hold-up summary).
 DEFAULT_HOLDUP_G = 2.3
+PSD_CLASSES = 7   # classes of the fill's PSD (free_space.fill)
 
 
 class UserError(Exception):
     """A mistake in the options: one line for the user, no traceback (unless --debug)."""
+
+
+def machine_clearances(gap_factor: float | None, d_mean: float, psd_sigma: float) -> tuple[float | None, float | None, float]:
+    """(flight tip to barrel, screw to screw in a section, spacer between staggered discs) in m:
+    the paper's machine for gap_factor None, else gap = gap_factor x the largest particle of the
+    PSD, rounded up to 0.1 mm, for the tip and the spacer, and 2 x gap in the section between the
+    screws (the 3D gap between conveying flights is 0.51-0.52 x the section gap, measured:
+    docs/stability-demo.md)."""
+    if gap_factor is None:
+        return None, None, 0.0
+    largest = d_mean * float(size_classes(psd_sigma, PSD_CLASSES)[0].max())
+    gap = round(math.ceil(round(gap_factor * largest / 1e-4, 6)) * 1e-4, 10)
+    return gap, 2 * gap, gap
 
 
 def build_meshes(config: str, tolerance: float, clearance: tuple[float | None, float | None, float]) -> Path:
@@ -144,7 +161,9 @@ def run(args: argparse.Namespace) -> int:
     except OSError as problem:
         raise UserError(f"--out {args.out}: cannot write there ({problem.strerror})") from None
 
-    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"], scale["clearance"])
+    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"],
+                            machine_clearances(scale["gap_factor"], float(effective["d_mean"]),
+                                               float(effective.get("psd_sigma", 0.05))))
     zones = read_zones(mesh_dir / "zones.txt")
     length = float(zones.x_end[-1])
     d_mean = float(effective["d_mean"])

@@ -21,9 +21,10 @@ FLIGHTS = 2
 # Clearances of the paper's machine: flight tip to barrel, and tip of one screw to the root of the other
 BARREL_CLEARANCE = BORE_RADIUS - OUTER_RADIUS      # 0.44 mm
 SCREW_CLEARANCE = CENTRE_DISTANCE - OUTER_RADIUS - ROOT_RADIUS   # 0.35 mm
-# Largest clearance of a clearance-scaled machine: keeps the root below the tip radius and the tip
-# arc open (both 3 mm: r_a 9.5 mm, r_i 6.81 mm, tip angle 28 deg; 1.4 and 3 mm: 11.1, 5.21 mm, 4.6 deg)
-MAX_CLEARANCE = 3e-3
+# Largest clearance of a clearance-scaled machine; the tip angle bounds the screw clearance further
+# (tip 1.4 / screw 2.8 mm: r_a 11.1, r_i 5.41 mm, tip angle 6.1 deg; 2.1 / 4.2 mm: 10.4, 4.71 mm, 3.2 deg)
+MAX_CLEARANCE = 5e-3
+MIN_TIP_ANGLE_DEG = 2.0   # a clearance-scaled profile keeps a tip arc (Booy: KW > 0); 2 deg: a meshable land
 
 
 @dataclass(frozen=True)
@@ -158,7 +159,12 @@ def profile_for_clearance(barrel_clearance: float | None, screw_clearance: float
         if not 0.0 < value <= MAX_CLEARANCE:
             raise ValueError(f"{name} {value:g} m is outside the allowed range (0, {MAX_CLEARANCE:g}] m")
     outer = BORE_RADIUS - barrel_clearance
-    return ScrewProfile(outer_radius=outer, root_radius=CENTRE_DISTANCE - outer - screw_clearance)
+    profile = ScrewProfile(outer_radius=outer, root_radius=CENTRE_DISTANCE - outer - screw_clearance)
+    if not profile.design_centre_distance < 2 * outer or np.degrees(profile.tip_angle) < MIN_TIP_ANGLE_DEG:
+        raise ValueError(f"clearances {barrel_clearance:g} m (barrel) and {screw_clearance:g} m (screw) leave no "
+                         f"tip land on the profile (r_a {outer:g} m, r_i {profile.root_radius:g} m): the tip "
+                         f"angle must be >= {MIN_TIP_ANGLE_DEG} deg; use a smaller screw clearance")
+    return profile
 
 
 def _rotate_point(point: tuple[float, float], angle: float) -> tuple[float, float]:
