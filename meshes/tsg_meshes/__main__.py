@@ -87,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
         else:
             from .render import render_all  # pyvista is only needed here
             written = render_all(args.imgdir)
-    except (SpecError, MeshQualityError, OSError) as error:
+    except (ValueError, MeshQualityError, OSError) as error:   # SpecError is a ValueError
         if args.debug:
             raise
         print(f"tsg_meshes: error: {error}", file=sys.stderr)
