@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import shutil
 import subprocess
 import sys
@@ -28,28 +29,29 @@ from tsg_cases import free_space
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
 from tsg_cases.progress import Heartbeat, follow
-from tsg_meshes.build import tolerance_tag
-from tsg_meshes.machine import MACHINE_FILE
+from tsg_cases.psd import size_classes
+from tsg_meshes.build import mesh_dir_name
+from tsg_meshes.machine import MACHINE_FILE, machine_file_complete
 
 CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiodic", "full": "consigma1-full"}
 # Scales. demo: coarse particles so that the periodic case gives per-element results in minutes on
 # 2 cores (docs/cases.md explains the choices); paper: the seed paper's 400 um particles. Both with
 # the mesh tolerance at 1 % of the smallest radius (demo 0.42 mm -> 4 um, paper 0.1 mm -> 1 um).
 SCALES: dict[str, dict[str, Any]] = {
-    "demo": {"tolerance": 4e-6,
-             # mus_pg 0.1: the 1 mm particles are 2.3-2.6 x the clearances, and friction 0.5 draws them
-             # into the flight-tip clearance (nip criterion). Even so, particles are pinched where a
-             # disc tip passes a barrel cusp: overlaps set by geometry (up to about (d_max - gap)/2
-             # per wall) and release speeds of tens of m/s (measured: 52 m/s at 29 ms). The guards
-             # here catch only a runaway (a centre on a wall, pair δ/R 1.5, 500 m/s = 1.2 mm per
-             # step); the paper scale keeps 0.5 / 0.5 / 10 x tip speed. The demo shows the method,
-             # not physical pinch contacts (docs/stability-demo.md).
-             "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000,
-                      "mus_pg": 0.1, "guard_max_wall_overlap": 1.0, "guard_max_pair_overlap": 1.5,
-                      "guard_max_speed": 500},
+    # demo: a clearance-scaled machine (docs/stability-demo.md). The paper's gaps (0.44 mm tip to
+    # barrel; 0.35 mm screw to screw in a section, 0.17 mm in 3D between conveying flights) are far
+    # smaller than the demo's 1 mm particles (largest 1.16 mm), so a prescribed screw pinches them
+    # whatever the contact law; and where two staggered discs meet, screw 1's disc and screw 2's
+    # next disc slide past each other in one plane (a scissor, any clearance). Same barrel and centre
+    # distance, smaller screws: tip to barrel 1.4 mm, screw to screw 2.8 mm in a section = 1.44 mm
+    # in 3D between conveying flights, and a 1.4 mm spacer between staggered discs: every gap
+    # >= 1.2 x the largest particle; the paper's friction and guards apply. The machine follows the
+    # particles (machine_clearances): -v d_mean 0.0015 gets 2.1 / 4.2 / 2.1 mm.
+    "demo": {"tolerance": 4e-6, "gap_factor": 1.2,
+             "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},
                        "full": {"t_sample": 0.5, "t_max_startup": 10.0}}},
-    "paper": {"tolerance": 1e-6,
+    "paper": {"tolerance": 1e-6, "gap_factor": None,
               "vars": {"d_mean": 0.0004, "dt_fraction": 0.1, "thermo_every": 10000, "stats_every": 10000},
               "times": {"periodic": {"t_startup": 0.5, "t_sample": 1.0}, "nonperiodic": {"t_run": 5.0},
                         "full": {"t_sample": 1.0, "t_max_startup": 10.0}}},
@@ -58,16 +60,36 @@ SCALES: dict[str, dict[str, Any]] = {
 # solid fraction of the full granulator at 14.4 kg/h (about 0.044: 12 g over 500 mm, Section 3)
 # gives 2.3 g. Override with --holdup-g (e.g. from a full run's hold-up summary).
 DEFAULT_HOLDUP_G = 2.3
+PSD_CLASSES = 7   # classes of the fill's PSD (free_space.fill)
 
 
 class UserError(Exception):
     """A mistake in the options: one line for the user, no traceback (unless --debug)."""
 
 
-def build_meshes(config: str, tolerance: float) -> Path:
-    out = ROOT / "build" / "meshes" / f"{config}-{tolerance_tag(tolerance)}"
-    if not (out / "zones.txt").is_file() or not (out / MACHINE_FILE).is_file():
-        proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), "--tolerance", str(tolerance)],
+def machine_clearances(gap_factor: float | None, d_mean: float, psd_sigma: float) -> tuple[float | None, float | None, float]:
+    """(flight tip to barrel, screw to screw in a section, spacer between staggered discs) in m:
+    the paper's machine for gap_factor None, else gap = gap_factor x the largest particle of the
+    PSD, rounded up to 0.1 mm, for the tip and the spacer, and 2 x gap in the section between the
+    screws (the 3D gap between conveying flights is 0.51-0.52 x the section gap, measured:
+    docs/stability-demo.md)."""
+    if gap_factor is None:
+        return None, None, 0.0
+    largest = d_mean * float(size_classes(psd_sigma, PSD_CLASSES)[0].max())
+    gap = round(math.ceil(round(gap_factor * largest / 1e-4, 6)) * 1e-4, 10)
+    return gap, 2 * gap, gap
+
+
+def build_meshes(config: str, tolerance: float, clearance: tuple[float | None, float | None, float]) -> Path:
+    """The scale's mesh directory under build/meshes, built if missing or incomplete; `clearance` is
+    (flight tip to barrel, screw to screw, spacer between staggered discs) in m, None (0 for the
+    spacer) for the paper's."""
+    out = ROOT / "build" / "meshes" / mesh_dir_name(config, tolerance, *clearance)
+    if not (out / "zones.txt").is_file() or not machine_file_complete(out):
+        options = ["--tolerance", str(tolerance)]
+        for option, value in zip(("--clearance", "--screw-clearance", "--disc-gap"), clearance):
+            options += [option, str(value)] if value else []
+        proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), *options],
                               capture_output=True, text=True)
         if proc.returncode != 0:
             last = proc.stderr.strip().splitlines()[-1:] or ["no message"]
@@ -151,7 +173,9 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--out {args.out}: cannot write there ({problem.strerror})") from None
     preparing = Heartbeat(f"{args.case} case: meshes and {'fill' if args.case == 'periodic' else 'feed regions'}").start()
 
-    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"])
+    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"],
+                            machine_clearances(scale["gap_factor"], float(effective["d_mean"]),
+                                               float(effective.get("psd_sigma", 0.05))))
     zones = read_zones(mesh_dir / "zones.txt")
     length = float(zones.x_end[-1])
     d_mean = float(effective["d_mean"])

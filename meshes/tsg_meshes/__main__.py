@@ -1,4 +1,5 @@
-"""Command line: python -m tsg_meshes build <config> <outdir> [--tolerance M] | build-all <outdir> | render <imgdir>."""
+"""Command line: python -m tsg_meshes build <config> <outdir> [--tolerance M] [--clearance M] [--screw-clearance M] [--disc-gap M]
+| build-all <outdir> | render <imgdir>."""
 from __future__ import annotations
 
 import argparse
@@ -8,6 +9,7 @@ import time
 from pathlib import Path
 
 from .build import DEFAULT_TOLERANCE, MAX_TOLERANCE, MeshQualityError, build_all, generate, resolve_config, write_geometry
+from .profile import MAX_CLEARANCE, profile_for_clearance
 from .spec import SpecError, read_spec
 
 
@@ -18,6 +20,16 @@ def tolerance(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text} is not a number (a length in m)") from None
     if not 0 < value <= MAX_TOLERANCE:
         raise argparse.ArgumentTypeError(f"{text} m is outside (0, {MAX_TOLERANCE:g}] m")
+    return value
+
+
+def clearance(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text} is not a number (a length in m)") from None
+    if not 0 < value <= MAX_CLEARANCE:
+        raise argparse.ArgumentTypeError(f"{text} m is outside (0, {MAX_CLEARANCE:g}] m")
     return value
 
 
@@ -44,6 +56,15 @@ def main(argv: list[str] | None = None) -> int:
     build.add_argument("outdir", type=Path)
     build.add_argument("--tolerance", type=tolerance, default=DEFAULT_TOLERANCE,
                        help=f"largest chordal deviation from the exact surface, metres (default {DEFAULT_TOLERANCE:g})")
+    build.add_argument("--clearance", type=clearance,
+                       help="flight-tip/barrel gap, metres, with the same barrel and centre distance (smaller "
+                            "screws); default: the paper's machine, 0.44 mm")
+    build.add_argument("--screw-clearance", type=clearance,
+                       help="tip/root gap between the screws in an axial section, metres (default: --clearance "
+                            "if given, else the paper's 0.35 mm)")
+    build.add_argument("--disc-gap", type=clearance, default=0.0,
+                       help="axial spacer between staggered discs, metres (default 0: the discs touch, as in "
+                            "the paper's machine)")
     everything = commands.add_parser("build-all", help="build every shipped configuration into <outdir>/<name>-<tol>um/")
     everything.add_argument("outdir", type=Path)
     render = commands.add_parser("render", help="PNG renders of element types and assembled screws")
@@ -58,14 +79,15 @@ def main(argv: list[str] | None = None) -> int:
             if target is not None:
                 check_output_dir(target)
         if args.command == "build":
-            geometry = generate(read_spec(resolve_config(args.config)), args.tolerance)
+            geometry = generate(read_spec(resolve_config(args.config)), args.tolerance,
+                                profile_for_clearance(args.clearance, args.screw_clearance), args.disc_gap)
             written = write_geometry(geometry, args.outdir)
         elif args.command == "build-all":
             written = build_all(args.outdir)
         else:
             from .render import render_all  # pyvista is only needed here
             written = render_all(args.imgdir)
-    except (SpecError, MeshQualityError, OSError) as error:
+    except (ValueError, MeshQualityError, OSError) as error:   # SpecError is a ValueError
         if args.debug:
             raise
         print(f"tsg_meshes: error: {error}", file=sys.stderr)

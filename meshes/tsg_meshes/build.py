@@ -9,7 +9,7 @@ import numpy as np
 
 from .barrel import build_barrel
 from .machine import MACHINE_FILE, machine_text
-from .profile import CENTRE_DISTANCE, ScrewProfile, TwinBore
+from .profile import BORE_RADIUS, CENTRE_DISTANCE, ScrewProfile, TwinBore, profile_for_clearance
 from .screw import build_screw, sample_profile
 from .spec import ROTATION_SENSE, ScrewConfiguration, read_spec
 from .surface import TriangleMesh, edge_neighbour_counts, smallest_angles_deg, write_ascii_stl
@@ -33,6 +33,8 @@ class BuiltGeometry:
     tolerance: float
     screws: tuple[TriangleMesh, TriangleMesh]
     barrel: TriangleMesh
+    profile: ScrewProfile = ScrewProfile()
+    disc_gap: float = 0.0
 
     @property
     def length(self) -> float:
@@ -59,14 +61,14 @@ def shipped_configs() -> list[Path]:
 
 
 def generate(configuration: ScrewConfiguration, tolerance: float = DEFAULT_TOLERANCE,
-             profile: ScrewProfile = ScrewProfile()) -> BuiltGeometry:
+             profile: ScrewProfile = ScrewProfile(), disc_gap: float = 0.0) -> BuiltGeometry:
     if not 0 < tolerance <= MAX_TOLERANCE:
         raise ValueError(f"tolerance {tolerance} m is outside (0, {MAX_TOLERANCE:g}] m")
     polyline = sample_profile(profile, tolerance, configuration.staggers_deg)
-    screws = (build_screw(configuration, polyline, 1, tolerance, profile),
-              build_screw(configuration, polyline, 2, tolerance, profile))
+    screws = (build_screw(configuration, polyline, 1, tolerance, profile, disc_gap),
+              build_screw(configuration, polyline, 2, tolerance, profile, disc_gap))
     barrel = build_barrel(float(configuration.length_mm) / 1000, configuration.ends == "inlet-wall", tolerance)
-    geometry = BuiltGeometry(configuration, tolerance, screws, barrel)
+    geometry = BuiltGeometry(configuration, tolerance, screws, barrel, profile, disc_gap)
     for name, mesh in geometry.meshes().items():
         check_liggghts_constraints(mesh, f"{configuration.name}/{name}")
     return geometry
@@ -82,17 +84,24 @@ def check_liggghts_constraints(mesh: TriangleMesh, label: str) -> None:
 
 
 def write_geometry(geometry: BuiltGeometry, outdir: Path | str) -> list[Path]:
+    """Write the meshes, zones.txt and machine.in (machine.in last: its presence with every key marks
+    a complete directory). Each file is written beside its target and renamed over it, so a rebuild
+    replaces files instead of rewriting them in place (a hard-linked copy keeps its old content)."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     written = []
     for name, mesh in geometry.meshes().items():
-        write_ascii_stl(mesh, outdir / name, solid_name=Path(name).stem)
-        written.append(outdir / name)
-    zones = outdir / "zones.txt"
-    zones.write_text(zones_text(geometry), encoding="ascii")
-    machine = outdir / MACHINE_FILE
-    machine.write_text(machine_text(), encoding="ascii")
-    return written + [zones, machine]
+        write_ascii_stl(mesh, outdir / f"{name}.part", solid_name=Path(name).stem)
+        written.append(_finish(outdir / f"{name}.part"))
+    (outdir / "zones.txt.part").write_text(zones_text(geometry), encoding="ascii")
+    (outdir / f"{MACHINE_FILE}.part").write_text(machine_text(geometry.profile, geometry.disc_gap), encoding="ascii")
+    return written + [_finish(outdir / "zones.txt.part"), _finish(outdir / f"{MACHINE_FILE}.part")]
+
+
+def _finish(part: Path) -> Path:
+    target = part.with_suffix("")
+    part.replace(target)
+    return target
 
 
 def free_area(profile: ScrewProfile = ScrewProfile(), bore: TwinBore = TwinBore()) -> float:
@@ -102,7 +111,7 @@ def free_area(profile: ScrewProfile = ScrewProfile(), bore: TwinBore = TwinBore(
 
 def zones_text(geometry: BuiltGeometry) -> str:
     configuration = geometry.configuration
-    area = free_area()
+    area = free_area(geometry.profile)
     half = CENTRE_DISTANCE / 2
     lines = [
         f"# tsg_meshes zones: {configuration.name} ({' '.join(configuration.tokens)}), ends {configuration.ends}, "
@@ -125,6 +134,26 @@ def tolerance_tag(tolerance: float) -> str:
     return f"{np.format_float_positional(tolerance * 1e6, trim='-')}um"
 
 
+def mesh_dir_name(configuration_name: str, tolerance: float, barrel_clearance: float | None = None,
+                  screw_clearance: float | None = None, disc_gap: float = 0.0) -> str:
+    """<name>-<tolerance>um for the paper's machine; + -c<barrel>mm for a clearance-scaled one with
+    equal gaps, -c<barrel>-<screw>mm with different gaps (clearances as profile_for_clearance),
+    + -g<gap>mm with spacers between staggered discs."""
+    name = f"{configuration_name}-{tolerance_tag(tolerance)}"
+    if disc_gap:
+        return f"{mesh_dir_name(configuration_name, tolerance, barrel_clearance, screw_clearance)}-g{_mm(disc_gap)}mm"
+    if barrel_clearance is None and screw_clearance is None:
+        return name
+    profile = profile_for_clearance(barrel_clearance, screw_clearance)
+    gaps = [BORE_RADIUS - profile.outer_radius, CENTRE_DISTANCE - profile.outer_radius - profile.root_radius]
+    tags = [_mm(gap) for gap in gaps]
+    return f"{name}-c{tags[0]}mm" if tags[0] == tags[1] else f"{name}-c{tags[0]}-{tags[1]}mm"
+
+
+def _mm(length: float) -> str:
+    return np.format_float_positional(round(length * 1e3, 6), trim='-')
+
+
 def build_all(outdir: Path | str) -> list[Path]:
     """Every shipped configuration at the default tolerance, and the periodic kneading-block
     domain also at the paper-scale tolerance; each into <outdir>/<name>-<tolerance>um/."""
@@ -135,5 +164,5 @@ def build_all(outdir: Path | str) -> list[Path]:
     for path, tolerance in builds:
         configuration = read_spec(path)
         geometry = generate(configuration, tolerance)
-        written += write_geometry(geometry, outdir / f"{configuration.name}-{tolerance_tag(tolerance)}")
+        written += write_geometry(geometry, outdir / mesh_dir_name(configuration.name, tolerance))
     return written

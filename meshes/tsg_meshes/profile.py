@@ -18,6 +18,13 @@ CENTRE_DISTANCE = 19.31e-3
 BORE_RADIUS = 12.5e-3
 LEAD = 25.0e-3
 FLIGHTS = 2
+# Clearances of the paper's machine: flight tip to barrel, and tip of one screw to the root of the other
+BARREL_CLEARANCE = BORE_RADIUS - OUTER_RADIUS      # 0.44 mm
+SCREW_CLEARANCE = CENTRE_DISTANCE - OUTER_RADIUS - ROOT_RADIUS   # 0.35 mm
+# Largest clearance of a clearance-scaled machine; the tip angle bounds the screw clearance further
+# (tip 1.4 / screw 2.8 mm: r_a 11.1, r_i 5.41 mm, tip angle 6.1 deg; 2.1 / 4.2 mm: 10.4, 4.71 mm, 3.2 deg)
+MAX_CLEARANCE = 5e-3
+MIN_TIP_ANGLE_DEG = 2.0   # a clearance-scaled profile keeps a tip arc (Booy: KW > 0); 2 deg: a meshable land
 
 
 @dataclass(frozen=True)
@@ -132,6 +139,32 @@ class ScrewProfile:
                 rotated = Arc(_rotate_point(arc.centre, turn), arc.radius, arc.start + turn, arc.sweep)
                 best = np.minimum(best, rotated.distance(points))
         return best
+
+
+def profile_for_clearance(barrel_clearance: float | None, screw_clearance: float | None = None) -> ScrewProfile:
+    """The paper's profile (both None), or one with flight-tip/barrel gap `barrel_clearance` and
+    tip/root gap between the screws `screw_clearance` (default: the barrel clearance), in the same
+    barrel (bore radius and centre distance unchanged): r_a = R_b - c_barrel and
+    r_i = a - r_a - c_screw, so the Booy profile is self-wiping at a - c_screw and the two screws, a
+    apart, keep c_screw between them in every axial section (the wiping contact's common normal is
+    parallel to the line of centres). In 3D a helical flight's normal leans out of the section, so
+    the gap between conveying flights is smaller than c_screw (docs/stability-demo.md)."""
+    if barrel_clearance is None and screw_clearance is None:
+        return ScrewProfile()
+    if barrel_clearance is None:
+        barrel_clearance = BARREL_CLEARANCE
+    if screw_clearance is None:
+        screw_clearance = barrel_clearance
+    for name, value in (("barrel clearance", barrel_clearance), ("screw clearance", screw_clearance)):
+        if not 0.0 < value <= MAX_CLEARANCE:
+            raise ValueError(f"{name} {value:g} m is outside the allowed range (0, {MAX_CLEARANCE:g}] m")
+    outer = BORE_RADIUS - barrel_clearance
+    profile = ScrewProfile(outer_radius=outer, root_radius=CENTRE_DISTANCE - outer - screw_clearance)
+    if not profile.design_centre_distance < 2 * outer or np.degrees(profile.tip_angle) < MIN_TIP_ANGLE_DEG:
+        raise ValueError(f"clearances {barrel_clearance:g} m (barrel) and {screw_clearance:g} m (screw) leave no "
+                         f"tip land on the profile (r_a {outer:g} m, r_i {profile.root_radius:g} m): the tip "
+                         f"angle must be >= {MIN_TIP_ANGLE_DEG} deg; use a smaller screw clearance")
+    return profile
 
 
 def _rotate_point(point: tuple[float, float], angle: float) -> tuple[float, float]:

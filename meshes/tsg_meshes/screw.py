@@ -106,8 +106,9 @@ class _ScrewSweep:
     """Builds one screw: rings of vertex ids per axial plane, walls between them, faces at jumps."""
 
     def __init__(self, polyline: ProfilePolyline, placement: ScrewPlacement, tolerance: float,
-                 profile: ScrewProfile) -> None:
+                 profile: ScrewProfile, disc_gap_mm: Fraction = Fraction(0)) -> None:
         self.polyline = polyline
+        self.disc_gap_mm = disc_gap_mm
         self.placement = placement
         self.profile = profile
         self.helix_step = chord_angle(profile.outer_radius, tolerance)
@@ -130,23 +131,32 @@ class _ScrewSweep:
         turned = turned[(np.arange(m) + half_turns * m // 2) % m]
         return np.column_stack((np.full(m, float(x_mm) / 1000), turned[:, 0] + self.placement.axis_y, turned[:, 1]))
 
-    def planes(self, element: Element) -> list[tuple[Fraction, Fraction]]:
-        """(x, phase) of the axial planes of an element: twisted elements are cut so that a tip
-        point turns at most the helix step per plane, straight ones by the wall aspect limit."""
+    def planes(self, element: Element, start_mm: Fraction) -> list[tuple[Fraction, Fraction]]:
+        """(x, phase) of the axial planes of an element from `start_mm` (its start, or the end of a
+        spacer): twisted elements are cut so that a tip point turns at most the helix step per
+        plane, straight ones by the wall aspect limit."""
+        length = element.x_end_mm - start_mm
         if element.twisted:
+            if start_mm != element.x_start_mm:
+                raise ValueError(f"element {element.index}: a spacer before a twisted element is not supported")
             turn = abs(np.radians(float(element.phase_end_deg - element.phase_start_deg)))
             count = int(np.ceil(turn / self.helix_step))
         else:
-            count = int(np.ceil(float(element.length_mm) / 1000 / self.max_wall_height))
-        return [(element.x_start_mm + element.length_mm * Fraction(k, count),
+            if length <= 0:
+                raise ValueError(f"element {element.index}: disc gap {float(self.disc_gap_mm)} mm is not shorter "
+                                 f"than the disc ({float(element.length_mm)} mm)")
+            count = int(np.ceil(float(length) / 1000 / self.max_wall_height))
+        return [(start_mm + length * Fraction(k, count),
                  element.phase_start_deg + (element.phase_end_deg - element.phase_start_deg) * Fraction(k, count))
                 for k in range(count + 1)]
 
     def add_element(self, element: Element) -> None:
-        for k, (x_mm, phase) in enumerate(self.planes(element)):
+        jump = self.ring_phase is not None and (element.phase_start_deg - self.ring_phase) % HALF_TURN != 0
+        start_mm = element.x_start_mm + (self.disc_gap_mm if jump else 0)
+        for k, (x_mm, phase) in enumerate(self.planes(element, start_mm)):
             points = self.ring(x_mm, phase)
             if k == 0 and self.ring_ids is not None:
-                ids = self._continue_ring(x_mm, phase, points, element.index)
+                ids = self._continue_ring(element.x_start_mm, phase, points, element.index)
             else:
                 ids = self.builder.add_vertices(points)
                 if k > 0:
@@ -164,6 +174,10 @@ class _ScrewSweep:
         crossings = [(jump % HALF_TURN) / 2 + 90 * k for k in range(4)]
         upstream_at = [self.polyline.node_at(angle) for angle in crossings]
         downstream_at = [self.polyline.node_at(angle - jump) for angle in crossings]
+        outside = [self.profile.radius(np.radians(float(crossings[k]) + 45))
+                   > self.profile.radius(np.radians(float(crossings[k]) + 45 - float(jump))) for k in range(4)]
+        if self.disc_gap_mm:
+            return self._spacer(x_mm, phase, upstream_at, downstream_at, outside, part)
         fresh = np.ones(m, dtype=bool)
         fresh[downstream_at] = False
         ids = np.empty(m, dtype=np.int64)
@@ -175,8 +189,7 @@ class _ScrewSweep:
         for k in range(4):
             # between crossings k and k + 1 one ring lies outside the other and bounds the face:
             # the upstream disc's end shows (+x) where it is outside, the downstream's start (-x)
-            middle = np.radians(float(crossings[k]) + 45)
-            upstream_outside = self.profile.radius(middle) > self.profile.radius(middle - np.radians(float(jump)))
+            upstream_outside = outside[k]
             (outer_ids, outer_points, outer_at), (inner_ids, inner_points, inner_at) = (
                 (upstream, downstream) if upstream_outside else (downstream, upstream))
             outer = _walk(outer_at[k], outer_at[(k + 1) % 4], m)
@@ -185,6 +198,62 @@ class _ScrewSweep:
             labels.append(np.concatenate([outer_ids[outer], inner_ids[inner]]))
             facing.append(1 if upstream_outside else -1)
         self._add_planar(float(x_mm) / 1000, polygons, labels, facing, part)
+        return ids
+
+    def _spacer(self, x_mm: Fraction, phase: Fraction, upstream_at: list[int], downstream_at: list[int],
+                upstream_outside: list[bool], part: int) -> np.ndarray:
+        """A phase jump opened into a spacer of length disc_gap_mm: the upstream disc ends at x_mm
+        with the faces where it lies outside the downstream profile; from x_mm to x_mm + gap the
+        section is the intersection of the two profiles; the downstream disc starts there with the
+        faces where it lies outside the upstream profile. So the two screws' disc faces that meet
+        at a jump (screw 1's disc k, screw 2's disc k + 1: they overlap in projection) are the gap
+        apart instead of sliding past each other in one plane. Returns the downstream ring's ids
+        (its points are self.ring(x_mm + gap, phase))."""
+        m = self.polyline.size
+        x1, x2 = float(x_mm) / 1000, float(x_mm + self.disc_gap_mm) / 1000
+        up_ids, up_points = self.ring_ids, self.ring_points
+        down_x1 = self.ring(x_mm, phase)
+        down_x2 = self.ring(x_mm + self.disc_gap_mm, phase)
+        walks_up = [_walk(upstream_at[k], upstream_at[(k + 1) % 4], m) for k in range(4)]
+        walks_down = [_walk(downstream_at[k], downstream_at[(k + 1) % 4], m) for k in range(4)]
+        # intersection outline at x1: per quadrant the inner profile, crossing k included, k + 1 not
+        segments_ids, segments_points = [], []
+        polygons, labels = [], []
+        for k in range(4):
+            if not upstream_outside[k]:
+                nodes = walks_up[k][:-1]
+                segments_ids.append(up_ids[nodes])
+                segments_points.append(up_points[nodes])
+                continue
+            interior = walks_down[k][1:-1]
+            fresh = self.builder.add_vertices(down_x1[interior])
+            segments_ids.append(np.concatenate([[up_ids[upstream_at[k]]], fresh]))
+            segments_points.append(np.vstack([up_points[upstream_at[k]][None], down_x1[interior]]))
+            polygons.append(np.vstack([up_points[walks_up[k], 1:], down_x1[interior][::-1, 1:]]))
+            labels.append(np.concatenate([up_ids[walks_up[k]], fresh[::-1]]))
+        self._add_planar(x1, polygons, labels, [1] * len(polygons), part)
+        inner_x1_ids, inner_x1 = np.concatenate(segments_ids), np.vstack(segments_points)
+        inner_x2 = inner_x1.copy()
+        inner_x2[:, 0] = x2
+        inner_x2_ids = self.builder.add_vertices(inner_x2)
+        self._add_wall(inner_x1_ids, inner_x2_ids, inner_x1, inner_x2, part)
+        # the downstream ring at x2 shares the outline's nodes where it is the inner profile
+        ids = np.full(m, -1, dtype=np.int64)
+        first = np.cumsum([0] + [len(segment) for segment in segments_ids])
+        pending = []
+        for k in range(4):
+            outline = inner_x2_ids[first[k]:first[k + 1]]
+            ids[walks_down[k][0]] = outline[0]
+            if upstream_outside[k]:
+                ids[walks_down[k][:-1]] = outline
+            else:
+                ids[walks_down[k][1:-1]] = self.builder.add_vertices(down_x2[walks_down[k][1:-1]])
+                pending.append((k, outline, inner_x2[first[k]:first[k + 1]]))
+        polygons, labels = [], []
+        for k, outline, outline_points in pending:
+            polygons.append(np.vstack([down_x2[walks_down[k], 1:], outline_points[1:][::-1, 1:]]))
+            labels.append(np.concatenate([ids[walks_down[k]], outline[1:][::-1]]))
+        self._add_planar(x2, polygons, labels, [-1] * len(polygons), part)
         return ids
 
     def _add_planar(self, x: float, polygons: list[np.ndarray], labels: list[np.ndarray],
@@ -221,10 +290,12 @@ def _walk(start: int, stop: int, size: int) -> np.ndarray:
 
 
 def build_screw(configuration: ScrewConfiguration, polyline: ProfilePolyline, screw: int,
-                tolerance: float, profile: ScrewProfile = ScrewProfile()) -> TriangleMesh:
+                tolerance: float, profile: ScrewProfile = ScrewProfile(), disc_gap: float = 0.0) -> TriangleMesh:
     """Surface of screw 1 or 2. Periodic domains: open at both ends. Inlet-wall domains: open at
-    x = 0 (the barrel's inlet wall covers it) and capped at the outlet."""
-    sweep = _ScrewSweep(polyline, ScrewPlacement.of(screw, profile), tolerance, profile)
+    x = 0 (the barrel's inlet wall covers it) and capped at the outlet. disc_gap (m): a spacer of
+    that length, with the section common to both discs, at every phase jump between discs."""
+    gap_mm = Fraction(str(round(disc_gap * 1e3, 9)))
+    sweep = _ScrewSweep(polyline, ScrewPlacement.of(screw, profile), tolerance, profile, gap_mm)
     for element in configuration.elements:
         sweep.add_element(element)
     if configuration.ends == "inlet-wall":

@@ -24,14 +24,15 @@ WARNING: something interleaved
 
 
 def test_log_reading_takes_maxima_losses_and_escapes():
-    pair, barrel, filled, fewest, escaped = seed_check.read_run(CRAFTED_LOG)
-    assert (pair, barrel, filled, fewest, escaped) == (0.42, 0.61, 100, 99, 2)
-    result = seed_check.SeedResult(1, 0, pair, barrel, filled, filled - fewest, escaped, 1.0, "")
+    pair, wall, speed, filled, fewest, escaped = seed_check.read_run(CRAFTED_LOG)
+    assert (pair, wall, speed, filled, fewest, escaped) == (0.42, 0.61, 0.9, 100, 99, 2)
+    result = seed_check.SeedResult(1, 0, pair, wall, speed, filled, filled - fewest, escaped, 1.0, "")
     assert result.failures(0.5, 0.7) == ["1 lost", "2 escaped"]
-    clean = seed_check.SeedResult(2, 0, pair, barrel, filled, 0, 0, 1.0, "")
+    clean = seed_check.SeedResult(2, 0, pair, wall, speed, filled, 0, 0, 1.0, "")
     assert clean.failures(0.5, 0.7) == []
-    assert clean.failures(0.4, 0.6) == ["pair overlap 0.42 > 0.4", "wall overlap 0.61 > 0.6"]
-    broken = seed_check.SeedResult(3, 1, np.nan, np.nan, 0, 0, 0, 1.0, "lmp failed")
+    assert clean.failures(0.4, 0.6, 0.85) == ["pair overlap 0.42 > 0.4", "wall overlap 0.61 > 0.6",
+                                              "speed 0.9 m/s > 0.85"]
+    broken = seed_check.SeedResult(3, 1, np.nan, np.nan, np.nan, 0, 0, 0, 1.0, "lmp failed")
     assert broken.failures(0.5, 0.7) == ["run_case.py exit 1 (lmp failed)", "pair overlap nan > 0.5"]
 
 
@@ -52,7 +53,7 @@ def test_two_seeds_of_the_demo_case(tmp_path):
     for seed in (3, 7):
         log = (tmp_path / f"seed-{seed}" / "log.lammps").read_text()
         assert "thermo_every=100" in log                      # -v reached run_case.py
-        pair, _barrel, filled, fewest, escaped = seed_check.read_run(log)
+        pair, _wall, _speed, filled, fewest, escaped = seed_check.read_run(log)
         assert filled > 900 and fewest == filled and escaped == 0 and 0.0 <= pair < 0.5
     fills = [(tmp_path / f"seed-{seed}" / "fill.in").read_text() for seed in (3, 7)]
     assert fills[0] != fills[1]                                # the seeds fill differently
