@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import hashlib
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -90,6 +91,14 @@ def fill_files(mesh_dir: Path, d_mean: float, psd_sigma: float, rho_p: float, ho
     made_for = {"fill_d_mean": d_mean, "fill_psd_sigma": psd_sigma, "fill_rho_p": rho_p, "fill_domain_length": length,
                 "fill_holdup_g": holdup_g}
     return "\n".join(include) + "\n" + made_for_block(made_for, "in.tsg_periodic"), "\n".join(data) + "\n"
+
+
+def fill_count(include: str) -> int:
+    """The number of particles a fill include (fill_files) reads."""
+    found = re.search(r"^variable fill_count equal (\d+)", include, re.MULTILINE)
+    if found is None:
+        raise PrepareError("not a fill include of cases/prepared.py: no fill_count line")
+    return int(found.group(1))
 
 
 def feed_text(mesh_dir: Path, d_mean: float, feed_at: str) -> str:

@@ -25,7 +25,7 @@ from typing import Any
 from tsg_analysis.liggghts_log import parse_thermo
 from tsg_analysis.run_files import read_zones
 from tsg_analysis.summary import summary_table
-from tsg_cases import free_space
+from tsg_cases import prepared
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
 from tsg_cases.progress import Heartbeat, follow
@@ -134,15 +134,6 @@ def check_options(args: argparse.Namespace) -> None:
         raise UserError(f"--out {args.out}: is a file, not a directory")
 
 
-def feed_position(feed_at: str, zones) -> float:
-    if feed_at == "inlet":
-        return 0.002
-    number = feed_at[8:] if feed_at.startswith("element:") else ""
-    if number.isdigit() and 1 <= int(number) <= len(zones):
-        return float(zones.x_start[int(number) - 1])
-    raise UserError(f"--feed-at {feed_at} is not allowed: use 'inlet' or 'element:N' with 1 <= N <= {len(zones)}")
-
-
 def planned_time(case: str, values: dict[str, str]) -> float | None:
     """Simulated time the run is planned for (the progress lines' 100 %): the full case's start-up
     ends at the steady state, so its plan is the upper bound t_max_startup + t_sample."""
@@ -182,18 +173,19 @@ def run(args: argparse.Namespace) -> int:
     rho_p = float(effective["rho_p"])        # one source: materials.in's default or -v rho_p
     if args.case == "periodic":
         holdup = (args.holdup_g or DEFAULT_HOLDUP_G) * 1e-3
-        centres, diameters = free_space.fill(mesh_dir, holdup, d_mean, float(effective.get("psd_sigma", 0.05)),
-                                             rho_p, (0.0, length), True, args.seed)
-        (out / "fill.in").write_text(free_space.fill_include(centres, diameters, rho_p, str(mesh_dir)))
+        include, data = prepared.fill_files(mesh_dir, d_mean, float(effective.get("psd_sigma", 0.05)), rho_p,
+                                            holdup * 1e3, args.seed)
+        prepared.write(out / "fill.in", include, "tsg-run-case", data)
         variables["fill_file"] = out / "fill.in"
-        what = f"{len(diameters)} particles ({holdup * 1e3:.3g} g)"
+        what = f"{prepared.fill_count(include)} particles ({holdup * 1e3:.3g} g)"
     else:
-        x0 = feed_position(args.feed_at, zones)
-        side = 1.6 * 1.5 * d_mean          # cube edge: 1.6 x the largest particle of the PSD
-        corners = free_space.feed_boxes(mesh_dir, (x0, x0 + 0.028), side, 0.1 * d_mean)
-        (out / "feed.in").write_text(free_space.feed_include(corners, side, str(mesh_dir)))
+        try:
+            x0, x1 = prepared.feed_range(args.feed_at, mesh_dir)
+            prepared.write(out / "feed.in", prepared.feed_text(mesh_dir, d_mean, args.feed_at), "tsg-run-case")
+        except prepared.PrepareError as problem:
+            raise UserError(str(problem)) from None
         variables["feed_file"] = out / "feed.in"
-        what = f"feed region of {len(corners)} cubes at x = {x0 * 1e3:.1f}-{(x0 + 0.028) * 1e3:.1f} mm"
+        what = f"feed regions at x = {x0 * 1e3:.1f}-{x1 * 1e3:.1f} mm"
     preparing.stop()
     # the run directory is self-describing for tsg_analysis: zones, machine geometry, screw surfaces
     for name in ("zones.txt", MACHINE_FILE):
