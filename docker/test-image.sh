@@ -9,6 +9,8 @@
 #   TSG_IMAGE        image name (default localhost/tsg-dem:latest)
 #   TSG_CCACHE_DIR   a host ccache directory mounted at the image's ccache path during the build
 #                    only (a speed-up: the image does not depend on it); unset: no mount
+#   TSG_CA_BUNDLE    a CA bundle pip must trust during the build (a TLS-intercepting proxy's);
+#                    default: $PIP_CERT of this shell; mounted read-only, not copied into the image
 #   TSG_SKIP_BUILD=1 reuse an existing TSG_IMAGE;  TSG_SKIP_TESTS=1 build only
 # Where the engine's default limits cannot be applied (sandboxes without CAP_SYS_RESOURCE, or with
 # cgroup v1+v2 "hybrid" mounts that crun refuses), the script falls back to runc and to resource
@@ -54,6 +56,11 @@ else
   if [ -n "${TSG_CCACHE_DIR:-}" ]; then
     [ -d "$TSG_CCACHE_DIR" ] || fail "TSG_CCACHE_DIR=$TSG_CCACHE_DIR is not a directory"
     build_opts+=(--volume "$TSG_CCACHE_DIR:/root/.cache/ccache")
+  fi
+  ca_bundle="${TSG_CA_BUNDLE-${PIP_CERT:-}}"
+  if [ -n "$ca_bundle" ]; then
+    [ -f "$ca_bundle" ] || fail "TSG_CA_BUNDLE=$ca_bundle is not a file"
+    build_opts+=(--volume "$ca_bundle:/run/tsg-ca-bundle.crt:ro" --build-arg PIP_CERT=/run/tsg-ca-bundle.crt)
   fi
   step "podman build ${build_opts[*]} ."
   start=$(date +%s)
