@@ -5,7 +5,8 @@
 # Steps: 1. base image (docker/make-base-image.sh; skipped when it exists), 2. podman build of
 # docker/Dockerfile, 3. `./tsg test [ctest args]` in a fresh container.
 # Environment:
-#   TSG_BASE_IMAGE   base image (default localhost/tsg-base:bookworm; made when missing)
+#   TSG_BASE_IMAGE   base image (default localhost/tsg-base:bookworm, made by make-base-image.sh
+#                    when missing; any other name is pulled, e.g. debian:bookworm from a registry)
 #   TSG_IMAGE        image name (default localhost/tsg-dem:latest)
 #   TSG_CCACHE_DIR   a host ccache directory mounted at the image's ccache path during the build
 #                    only (a speed-up: the image does not depend on it); unset: no mount
@@ -29,8 +30,10 @@ command -v podman >/dev/null || fail "podman not found (apt-get install podman)"
 step "base image $base"
 if podman image exists "$base"; then
   echo "present"
-else
+elif [[ "$base" == localhost/* ]]; then
   docker/make-base-image.sh "${base#localhost/}"
+else
+  podman pull "$base" || fail "cannot pull $base (no registry? leave TSG_BASE_IMAGE unset to make a local base)"
 fi
 
 # ---- engine options: defaults first, the sandbox fallback only when the defaults cannot run -------
