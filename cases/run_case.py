@@ -98,7 +98,10 @@ def build_meshes(config: str, tolerance: float, clearance: tuple[float | None, f
 
 
 def git_commit() -> str | None:
-    proc = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True)
+    try:
+        proc = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True)
+    except FileNotFoundError:   # no git installed (the container image has none): the commit is unknown
+        return None
     return proc.stdout.strip() if proc.returncode == 0 else None
 
 
