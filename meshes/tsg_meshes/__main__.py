@@ -10,7 +10,7 @@ from pathlib import Path
 
 from .build import DEFAULT_TOLERANCE, MAX_TOLERANCE, MeshQualityError, build_all, generate, resolve_config, write_geometry
 from .profile import MAX_CLEARANCE, profile_for_clearance
-from .spec import SpecError, read_spec
+from .spec import read_spec
 
 
 def tolerance(text: str) -> float:
