@@ -65,6 +65,7 @@ from tsg_analysis.model import SOLID_FRACTION
 from tsg_analysis.run_files import AnalysisInputError, read_zones
 from tsg_analysis.uncertainty import Estimate
 from tsg_cases.case_parameters import CASES, RUNNER_SET, ParameterError, check_names, defined_variables
+from tsg_cases.command_line import run_reporting
 from tsg_cases.run_case import SCALES
 
 SETTINGS = {
@@ -531,13 +532,8 @@ def run(args: argparse.Namespace) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     args = parse(argv)
-    try:
-        return run(args)
-    except (StudyError, ParameterError, ValueError, AnalysisInputError, OSError) as problem:
-        if args.debug:
-            raise
-        print(f"tsg-accuracy: error: {problem}", file=sys.stderr)
-        return 2
+    return run_reporting("tsg-accuracy", lambda: run(args),
+                         (StudyError, ParameterError, ValueError, AnalysisInputError, OSError), args.debug)
 
 
 if __name__ == "__main__":

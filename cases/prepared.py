@@ -30,6 +30,7 @@ import numpy as np
 from tsg_analysis.run_files import read_zones
 from tsg_cases import free_space
 from tsg_cases.case_parameters import CASE_DIR, defined_variables
+from tsg_cases.command_line import run_reporting
 from tsg_cases.progress import Heartbeat
 from tsg_meshes.build import tolerance_tag
 from tsg_meshes.machine import read_machine
@@ -283,7 +284,8 @@ def main(argv: list[str] | None = None) -> int:
     g.add_argument("--feed-at", default="element:7", help="'inlet' or 'element:N' (zone N of the meshes)")
     parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
     args = parser.parse_args(argv)
-    try:
+
+    def act() -> int:
         if args.command == "defaults":
             prepare_defaults(tuple(args.cases) or ("periodic", "nonperiodic", "full"))
             return 0
@@ -299,11 +301,8 @@ def main(argv: list[str] | None = None) -> int:
             write(args.out, feed_text(args.mesh_dir.resolve(), args.d_mean, args.feed_at), "by-hand")
         print(f"[prepare] {args.out} written")
         return 0
-    except (PrepareError, RuntimeError, OSError) as problem:
-        if args.debug:
-            raise
-        print(f"tsg-prepared: error: {problem}", file=sys.stderr)
-        return 2
+
+    return run_reporting("tsg-prepared", act, (PrepareError, RuntimeError, OSError), args.debug)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,7 @@ from tsg_analysis.run_files import read_zones
 from tsg_analysis.summary import summary_table
 from tsg_cases import prepared
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
+from tsg_cases.command_line import run_reporting
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
 from tsg_cases.progress import Heartbeat, follow
 from tsg_cases.psd import size_classes
@@ -235,13 +236,7 @@ def run(args: argparse.Namespace) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     args = parse(argv)
-    try:
-        return run(args)
-    except (UserError, ParameterError, LauncherError, OSError) as problem:
-        if args.debug:
-            raise
-        print(f"tsg-run-case: error: {problem}", file=sys.stderr)
-        return 2
+    return run_reporting("tsg-run-case", lambda: run(args), (UserError, ParameterError, LauncherError, OSError), args.debug)
 
 
 if __name__ == "__main__":

@@ -7,30 +7,28 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import Callable
 
 from .build import DEFAULT_TOLERANCE, MAX_TOLERANCE, MeshQualityError, build_all, generate, resolve_config, write_geometry
 from .profile import MAX_CLEARANCE, profile_for_clearance
 from .spec import read_spec
 
 
-def tolerance(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text} is not a number (a length in m)") from None
-    if not 0 < value <= MAX_TOLERANCE:
-        raise argparse.ArgumentTypeError(f"{text} m is outside (0, {MAX_TOLERANCE:g}] m")
-    return value
+def length_up_to(largest: float) -> Callable[[str], float]:
+    """An argparse type: a length in m, 0 < value <= largest."""
+    def parse_length(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text} is not a number (a length in m)") from None
+        if not 0 < value <= largest:
+            raise argparse.ArgumentTypeError(f"{text} m is outside (0, {largest:g}] m")
+        return value
+    return parse_length
 
 
-def clearance(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text} is not a number (a length in m)") from None
-    if not 0 < value <= MAX_CLEARANCE:
-        raise argparse.ArgumentTypeError(f"{text} m is outside (0, {MAX_CLEARANCE:g}] m")
-    return value
+tolerance = length_up_to(MAX_TOLERANCE)
+clearance = length_up_to(MAX_CLEARANCE)
 
 
 class OutputError(OSError):
