@@ -27,7 +27,8 @@ def _plotter(size=(1200, 700)):
 
     pv.OFF_SCREEN = True
     plotter = pv.Plotter(off_screen=True, window_size=list(size))
-    plotter.set_background("white")
+    # pyvista types set_background through functools.wraps of the unbound Renderers method
+    plotter.set_background("white")  # type: ignore[arg-type]
     return plotter
 
 
@@ -67,7 +68,8 @@ def _section_plot(geometry: BuiltGeometry, x: float, path: Path) -> Path:
 
     figure, axes = plt.subplots(figsize=(8, 4.6))
     for mesh, colour in zip((*geometry.screws, geometry.barrel), (*SCREW_COLOURS, "#505050")):
-        axes.add_collection(LineCollection(section_segments(mesh.corners, x) * 1e3, colors=colour, linewidths=1.0))
+        segments = section_segments(mesh.corners, x) * 1e3  # (n, 2, 2) array: matplotlib's stubs want a Sequence
+        axes.add_collection(LineCollection(segments, colors=colour, linewidths=1.0))  # type: ignore[arg-type]
     axes.set_xlim(-23, 23)
     axes.set_ylim(-13.5, 13.5)
     axes.set_aspect("equal")

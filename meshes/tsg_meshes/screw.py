@@ -102,6 +102,15 @@ class ScrewPlacement:
         return ScrewPlacement(sign * CENTRE_DISTANCE / 2, Fraction(0) if screw == 1 else HALF_TURN / profile.flights)
 
 
+@dataclass(frozen=True)
+class _Ring:
+    """The last axial ring swept: its vertex ids, phase (deg) and absolute (M, 3) points."""
+
+    ids: np.ndarray
+    phase: Fraction
+    points: np.ndarray
+
+
 class _ScrewSweep:
     """Builds one screw: rings of vertex ids per axial plane, walls between them, faces at jumps."""
 
@@ -115,9 +124,7 @@ class _ScrewSweep:
         segment = np.linalg.norm(np.roll(polyline.nodes, -1, axis=0) - polyline.nodes, axis=1)
         self.max_wall_height = MAX_WALL_ASPECT * float(segment.mean())
         self.builder = MeshBuilder()
-        self.ring_ids: np.ndarray | None = None
-        self.ring_phase: Fraction | None = None
-        self.ring_points: np.ndarray | None = None
+        self.last_ring: _Ring | None = None  # None until the first element is added
 
     def ring(self, x_mm: Fraction, phase_deg: Fraction) -> np.ndarray:
         """Absolute (M, 3) ring positions; phases equal mod 180 deg give bit-identical point sets."""
@@ -151,39 +158,42 @@ class _ScrewSweep:
                 for k in range(count + 1)]
 
     def add_element(self, element: Element) -> None:
-        jump = self.ring_phase is not None and (element.phase_start_deg - self.ring_phase) % HALF_TURN != 0
+        previous = self.last_ring
+        jump = previous is not None and (element.phase_start_deg - previous.phase) % HALF_TURN != 0
         start_mm = element.x_start_mm + (self.disc_gap_mm if jump else 0)
         for k, (x_mm, phase) in enumerate(self.planes(element, start_mm)):
             points = self.ring(x_mm, phase)
-            if k == 0 and self.ring_ids is not None:
-                ids = self._continue_ring(element.x_start_mm, phase, points, element.index)
+            if k == 0 and previous is not None:
+                ids = self._continue_ring(previous, element.x_start_mm, phase, points, element.index)
             else:
                 ids = self.builder.add_vertices(points)
-                if k > 0:
-                    self._add_wall(self.ring_ids, ids, self.ring_points, points, element.index)
-            self.ring_ids, self.ring_phase, self.ring_points = ids, phase, points
+                if previous is not None:  # k > 0: this element's earlier plane
+                    self._add_wall(previous.ids, ids, previous.points, points, element.index)
+            previous = _Ring(ids, phase, points)
+        self.last_ring = previous
 
-    def _continue_ring(self, x_mm: Fraction, phase: Fraction, points: np.ndarray, part: int) -> np.ndarray:
+    def _continue_ring(self, previous: _Ring, x_mm: Fraction, phase: Fraction, points: np.ndarray,
+                       part: int) -> np.ndarray:
         """First ring of an element: the previous ring itself when the phase is unchanged mod 180,
         otherwise a new ring that shares the crossing nodes, plus the faces between the two."""
-        jump = phase - self.ring_phase
+        jump = phase - previous.phase
         m = self.polyline.size
         if jump % HALF_TURN == 0:
-            return self.ring_ids[(np.arange(m) + int(jump // HALF_TURN) * m // 2) % m]
+            return previous.ids[(np.arange(m) + int(jump // HALF_TURN) * m // 2) % m]
         # the two profiles cross at upstream-local angles jump/2 + k 90 (crossing_angles_deg)
         crossings = [(jump % HALF_TURN) / 2 + 90 * k for k in range(4)]
         upstream_at = [self.polyline.node_at(angle) for angle in crossings]
         downstream_at = [self.polyline.node_at(angle - jump) for angle in crossings]
-        outside = [self.profile.radius(np.radians(float(crossings[k]) + 45))
-                   > self.profile.radius(np.radians(float(crossings[k]) + 45 - float(jump))) for k in range(4)]
+        outside = [bool(self.profile.radius(np.radians(float(crossings[k]) + 45))
+                        > self.profile.radius(np.radians(float(crossings[k]) + 45 - float(jump)))) for k in range(4)]
         if self.disc_gap_mm:
-            return self._spacer(x_mm, phase, upstream_at, downstream_at, outside, part)
+            return self._spacer(previous, x_mm, phase, upstream_at, downstream_at, outside, part)
         fresh = np.ones(m, dtype=bool)
         fresh[downstream_at] = False
         ids = np.empty(m, dtype=np.int64)
         ids[fresh] = self.builder.add_vertices(points[fresh])
-        ids[downstream_at] = self.ring_ids[upstream_at]
-        upstream = (self.ring_ids, self.ring_points, upstream_at)
+        ids[downstream_at] = previous.ids[upstream_at]
+        upstream = (previous.ids, previous.points, upstream_at)
         downstream = (ids, points, downstream_at)
         polygons, labels, facing = [], [], []
         for k in range(4):
@@ -200,8 +210,8 @@ class _ScrewSweep:
         self._add_planar(float(x_mm) / 1000, polygons, labels, facing, part)
         return ids
 
-    def _spacer(self, x_mm: Fraction, phase: Fraction, upstream_at: list[int], downstream_at: list[int],
-                upstream_outside: list[bool], part: int) -> np.ndarray:
+    def _spacer(self, previous: _Ring, x_mm: Fraction, phase: Fraction, upstream_at: list[int],
+                downstream_at: list[int], upstream_outside: list[bool], part: int) -> np.ndarray:
         """A phase jump opened into a spacer of length disc_gap_mm: the upstream disc ends at x_mm
         with the faces where it lies outside the downstream profile; from x_mm to x_mm + gap the
         section is the intersection of the two profiles; the downstream disc starts there with the
@@ -211,7 +221,7 @@ class _ScrewSweep:
         (its points are self.ring(x_mm + gap, phase))."""
         m = self.polyline.size
         x1, x2 = float(x_mm) / 1000, float(x_mm + self.disc_gap_mm) / 1000
-        up_ids, up_points = self.ring_ids, self.ring_points
+        up_ids, up_points = previous.ids, previous.points
         down_x1 = self.ring(x_mm, phase)
         down_x2 = self.ring(x_mm + self.disc_gap_mm, phase)
         walks_up = [_walk(upstream_at[k], upstream_at[(k + 1) % 4], m) for k in range(4)]
@@ -281,7 +291,9 @@ class _ScrewSweep:
 
     def cap(self, x_mm: Fraction, part: int) -> None:
         """Flat end face over the whole last ring, facing +x (the outlet)."""
-        self._add_planar(float(x_mm) / 1000, [self.ring_points[:, 1:]], [self.ring_ids], [1], part)
+        if self.last_ring is None:
+            raise ValueError("a screw end cap needs at least one element before it")
+        self._add_planar(float(x_mm) / 1000, [self.last_ring.points[:, 1:]], [self.last_ring.ids], [1], part)
 
 
 def _walk(start: int, stop: int, size: int) -> np.ndarray:
