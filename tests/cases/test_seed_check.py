@@ -55,5 +55,5 @@ def test_two_seeds_of_the_demo_case(tmp_path):
         assert "thermo_every=100" in log                      # -v reached run_case.py
         pair, _wall, _speed, filled, fewest, escaped = seed_check.read_run(log)
         assert filled > 900 and fewest == filled and escaped == 0 and 0.0 <= pair < 0.5
-    fills = [(tmp_path / f"seed-{seed}" / "fill.in").read_text() for seed in (3, 7)]
+    fills = [(tmp_path / f"seed-{seed}" / "fill.in.data").read_text() for seed in (3, 7)]
     assert fills[0] != fills[1]                                # the seeds fill differently
