@@ -211,10 +211,10 @@ def test_points_change_one_setting_and_carry_the_reference(tmp_path):
     assert points["np 2"].argv[points["np 2"].argv.index("--np") + 1] == "2"
     assert "--mesh-tolerance" in points["mesh_tolerance 2e-05"].argv and "--mesh-tolerance" not in points["reference"].argv
     # another domain: the reference's physics (the periodic case's cohesion 0, not the non-periodic
-    # default 1; the demo's mus_pg 0.1), its own run time, no periodic-only variables
+    # default 1; the reference's -v values), its own run time, no periodic-only variables
     domain = points["domain nonperiodic"]
     assert domain.case == "nonperiodic" and domain.argv[0] == "nonperiodic"
     carried = variables("domain nonperiodic")
-    assert carried["cohesion"] == "0" and carried["mus_pg"] == "0.1" and carried["t_run"] == "0.05"
+    assert carried["cohesion"] == "0" and carried["dt_fraction"] == "0.1" and carried["t_run"] == "0.05"
     assert "t_sample" not in carried and "t_startup" not in carried and "buffer" not in carried
 
