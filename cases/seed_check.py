@@ -7,14 +7,17 @@ Each seed runs `cases/run_case.py CASE --seed N --out OUT/seed-N` with the other
 through, then its log.lammps is read. Per seed it prints: the largest particle–particle overlap δ/R
 (fix check/contact's monitor v_pp_max, R the smaller radius), the largest particle–wall overlap δ/r
 against the screws and the barrel (the monitors v_pg_scr1, v_pg_scr2, v_pg_bar of timestep.in),
-the largest particle speed (v_speed), the particles lost (fewer atoms than filled, or LIGGGHTS' "Lost atoms") and escaped (v_escaped),
-and the wall time. The wall monitor and the speed cover every step; the pair monitor is sampled at
-thermo output (every `thermo_every` steps). A seed fails when run_case.py fails, a particle is lost
+the largest particle speed (v_speed), the particles lost (fewer atoms than filled, or LIGGGHTS' "Lost
+atoms") and escaped (v_escaped), and the wall time. The wall monitor and the speed cover every step;
+the pair monitor is sampled at thermo output (every `thermo_every` steps). A seed whose run succeeded
+before with the same options (OUT/seed-N/seed-check.json) is reused, so an interrupted check
+continues where it stopped. A seed fails when run_case.py fails, a particle is lost
 or escaped, or an overlap or the speed exceeds its bound; the exit status is 1 when any seed fails.
 """
 from __future__ import annotations
 
 import argparse
+import json
 import subprocess
 import sys
 import time
@@ -107,9 +110,19 @@ def run_seed(seed: int, out: Path, case: str, passthrough: list[str]) -> SeedRes
     run_dir = out / f"seed-{seed}"
     command = [sys.executable, str(ROOT / "cases" / "run_case.py"), case, "--seed", str(seed),
                "--out", str(run_dir), *passthrough]
-    start = time.perf_counter()
-    proc = subprocess.run(command, capture_output=True, text=True)
-    wall_time = time.perf_counter() - start
+    record = run_dir / "seed-check.json"
+    finished = json.loads(record.read_text()) if record.is_file() else {}
+    if finished.get("command") == command[2:] and finished["exit_status"] == 0:   # reuse: a study resumes
+        exit_status, wall_time, error = finished["exit_status"], finished["wall_time"], finished["error"]
+    else:
+        start = time.perf_counter()
+        proc = subprocess.run(command, capture_output=True, text=True)
+        wall_time = time.perf_counter() - start
+        exit_status = proc.returncode
+        error = next((line.strip() for line in reversed((proc.stderr or "").splitlines()) if line.strip()), "")
+        run_dir.mkdir(parents=True, exist_ok=True)
+        record.write_text(json.dumps({"command": command[2:], "exit_status": exit_status,
+                                      "wall_time": wall_time, "error": error}))
     log_file = run_dir / "log.lammps"
     log = log_file.read_text(errors="replace") if log_file.exists() else ""
     screen = run_dir / "screen.txt"
@@ -118,8 +131,7 @@ def run_seed(seed: int, out: Path, case: str, passthrough: list[str]) -> SeedRes
     lost = filled - fewest if filled else 0
     if "Lost atoms" in text:
         lost = max(lost, 1)
-    error = next((line.strip() for line in reversed((proc.stderr or "").splitlines()) if line.strip()), "")
-    return SeedResult(seed, proc.returncode, pair, wall, speed, filled, lost, escaped, wall_time, error)
+    return SeedResult(seed, exit_status, pair, wall, speed, filled, lost, escaped, wall_time, error)
 
 
 def table(results: list[SeedResult], max_pair: float, max_wall: float, max_speed: float = float("inf")) -> str:

@@ -8,7 +8,9 @@
 #    when this segment ends, however it ends (also killed at the time limit), so the chain needs no
 #    signal handling.
 # 3. Continue from the newest complete restart file (one whose step the log shows a later thermo row
-#    for; a file being written when the job was killed is skipped), or start from the case's fill.
+#    for; a file being written when the job was killed is skipped), or start from the beginning (the
+#    periodic case's fill, the full case's empty barrel). The measurement fixes drop the records
+#    the killed segment wrote after that restart file (written again by the continued run).
 #    The previous segment's log and element statistics are kept as log.upto-<step>.lammps and
 #    elements.upto-<step>.txt (LIGGGHTS would overwrite them); residence and mass-flow records
 #    continue in their files (the fixes append after a restart).
@@ -63,7 +65,7 @@ if [ -n "$restart" ]; then
   vars+=(-var start restart -var restart_file "$out/restart.$step")
   say "continuing from restart.$step (the previous segment reached step $last_step)"
 else
-  say "starting from the fill"
+  say "starting from the beginning (the fill, or the empty barrel of the full case)"
 fi
 
 # shellcheck disable=SC2086  # TSG_LAUNCH and TSG_VARS are word lists

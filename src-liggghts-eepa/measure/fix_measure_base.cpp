@@ -6,6 +6,7 @@
 #include "atom.h"
 #include "comm.h"
 #include "memory.h"
+#include "update.h"
 
 using namespace LAMMPS_NS;
 
@@ -46,9 +47,11 @@ void FixMeasureBase::allocate_per_atom(int nstate, int nhot)
 }
 
 void FixMeasureBase::open_file(const std::string &role, const std::string &path, const std::string &header,
-                               const std::vector<std::string> &free_prefixes)
+                               const std::vector<std::string> &free_prefixes, int time_column)
 {
-  fp_ = tsg::measure::open_output(lmp, who_, role, path, header, append_, continuing_, free_prefixes);
+  // a record of the restart step itself stays: half a step of margin above the printed time
+  const tsg::measure::Rollback rollback{time_column, clock_.restart_time() + 0.5 * update->dt};
+  fp_ = tsg::measure::open_output(lmp, who_, role, path, header, append_, continuing_, free_prefixes, rollback);
   file_opened_ = true;
 }
 

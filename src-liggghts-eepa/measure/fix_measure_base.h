@@ -48,9 +48,10 @@ protected:
   double now() const { return clock_.now(update); }
   double unwrapped_x(int i, double near) const { return tsg::measure::unwrapped_x(atom, domain, i, near); }
   double period() const { return domain->xperiodic ? domain->xprd : 0.0; }
-  // Opens the output file on rank 0 (measure_common.h open_output) with append_ and continuing_.
+  // Opens the output file on rank 0 (measure_common.h open_output) with append_ and continuing_;
+  // `time_column` (1-based) holds the time of each record, for the records after a restart.
   void open_file(const std::string &role, const std::string &path, const std::string &header,
-                 const std::vector<std::string> &free_prefixes);
+                 const std::vector<std::string> &free_prefixes, int time_column);
   // Writes the global part of a restart file (rank 0).
   void write_global(FILE *fp, const std::vector<double> &list) const;
 

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include "record_rollback.h"
 #include "restart_clock.h"
 #include "run_files.h"
 
@@ -229,13 +231,23 @@ inline std::string broadcast(LAMMPS_NS::LAMMPS *lmp, std::string text)
 
 }  // namespace detail
 
+// Where a continued run's records start: a fix continuing from a restart file drops the records of
+// its file whose time (column `time_column`, 1-based) lies after `restart_time`, which the run that
+// wrote the restart file went on to write before it ended (a job killed at its time limit); the
+// continued run writes them again.
+struct Rollback {
+  int time_column;
+  double restart_time;
+};
+
 // Opens an output file on rank 0 (nullptr on the other ranks) and writes `header` into a new or
 // empty file. Appending to a file that holds data requires its header to equal `header`, except lines
 // starting with one of `free_prefixes` (names that may change without changing what the columns
-// mean): records of two set-ups never mix in one file. Errors on every rank.
+// mean): records of two set-ups never mix in one file. When continuing, the records after the
+// restart are dropped first (Rollback) and their number is reported. Errors on every rank.
 inline FILE *open_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &role,
                          const std::string &path, const std::string &header, Append mode, bool continuing,
-                         const std::vector<std::string> &free_prefixes)
+                         const std::vector<std::string> &free_prefixes, const Rollback &rollback)
 {
   const bool append = mode == Append::yes || (mode == Append::automatic && continuing);
   std::string problem;
@@ -265,6 +277,27 @@ inline FILE *open_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const s
                   (k < had.size() ? had[k] : std::string("(no line)")) + "' where this fix writes '" +
                   (k < want.size() ? want[k] : std::string("(no line)")) +
                   "'); append only to a file of the same set-up, or give another file name";
+      }
+    }
+    if (problem.empty() && size > 0 && append && continuing) {
+      std::ifstream text(path, std::ios::binary);
+      std::ostringstream rest;
+      const std::size_t dropped = keep_records_until(text, rest, rollback.time_column, rollback.restart_time);
+      text.close();
+      if (dropped > 0) {
+        std::ofstream rewritten(path + ".rollback", std::ios::binary | std::ios::trunc);
+        rewritten << rest.str();
+        rewritten.close();
+        if (!rewritten || std::rename((path + ".rollback").c_str(), path.c_str()) != 0) {
+          problem = "cannot drop the records after the restart from the " + role + " '" + path + "': " +
+                    std::strerror(errno);
+        } else {
+          const std::string note = who + ": dropped " + std::to_string(dropped) + " records after t = " +
+                                   number(rollback.restart_time) + " s from the " + role + " '" + path +
+                                   "' (written after the restart file by the run that wrote it; this run "
+                                   "writes them again)";
+          lmp->error->message(FLERR, note.c_str());
+        }
       }
     }
     if (problem.empty()) {

@@ -26,6 +26,8 @@ public:
     restart_step_ = step;
     pending_ = true;
   }
+  // the time stored in the restart file this clock continues from (0 for a new clock)
+  double restart_time() const { return restart_time_; }
   // call at set-up: continues the clock of the run that wrote the restart file
   void resume(const LAMMPS_NS::Update *update)
   {

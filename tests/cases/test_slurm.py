@@ -3,10 +3,12 @@ sbatch is a stub that records the successor it is asked to submit; segment 1 is 
 wrote restart files (as a job at its time limit), segment 2 continues from the newest complete one
 and finishes; its element statistics, merged with segment 1's, equal those of the same run done in
 one piece; a third segment finds the run done."""
+import json
 import os
 import re
 import signal
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -109,3 +111,76 @@ def test_a_killed_segment_is_continued_from_its_restart_file(tmp_path):
     # a successor that starts after the run is done does nothing
     third = segment(environment(tmp_path, out, 103, t_sample))
     assert third.wait(timeout=60) == 0 and "is done: nothing to run" in third.stdout.read()
+
+
+def full_variables(tmp: Path, t_sample: float) -> tuple[Path, str]:
+    """The full case at demo scale, fed at the inlet, with both sensors in the feed zone and a
+    tolerance that any outflow meets (steady in about 6000 steps), windows of 200 steps: a one-piece
+    reference run by the runner (which prepares the feed regions and the meshes), and the -var list
+    that makes segment.sh run the same input."""
+    reference = tmp / "whole-full"
+    variables = {"sensor_1": 0.004, "sensor_2": 0.02, "steady_tolerance": 1e6, "t_max_startup": 0.05,
+                 "stats_every": 200, "thermo_every": 100, "t_sample": t_sample, "restart_every": 200}
+    command = [sys.executable, "-m", "tsg_cases.run_case", "full", "--scale", "demo", "--out", str(reference)]
+    for name, value in variables.items():
+        command += ["-v", name, str(value)]
+    proc = subprocess.run(command, capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    used = json.loads((reference / "params.json").read_text())["variables"]
+    feed = tmp / "feed.in"
+    feed.write_bytes((reference / "feed.in").read_bytes())
+    used.update(feed_file=str(feed))
+    return reference, " ".join(f"-var {name} {value}" for name, value in used.items()
+                               if name not in ("out_dir", "case_dir", "restart_every"))
+
+
+def kill_after_restart(env: dict[str, str], case: str, out: Path, step: int) -> int:
+    """Runs one segment and kills it (with its job script, as SLURM does at the time limit) once
+    restart.<step> is complete and the run has written the next mass-flow window after it (the log
+    shows thermo row step + 200); the last step it reached."""
+    screen = (out.parent / f"screen-{env['SLURM_JOB_ID']}.txt").open("w")   # a pipe nobody reads would fill and stall lmp
+    job = subprocess.Popen([str(SEGMENT), case, "JOB_SCRIPT"], env=env, stdout=screen,
+                           stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    deadline = time.monotonic() + 600
+    reached = 0
+    while time.monotonic() < deadline and job.poll() is None:
+        log = out / "log.lammps"
+        rows = re.findall(r"^\s+(\d+)\s+[\d.e+-]+\s+\d+\s", log.read_text(errors="replace"), re.M) if log.is_file() else []
+        reached = int(rows[-1]) if rows else 0
+        if (out / f"restart.{step}").is_file() and reached >= step + 200:
+            break
+        time.sleep(0.01)
+    assert job.poll() is None, screen.name
+    os.killpg(job.pid, signal.SIGKILL)
+    job.wait()
+    screen.close()
+    return reached
+
+
+def test_a_full_case_run_killed_in_start_up_and_in_sampling_equals_one_run(tmp_path):
+    # the full case continues from restart files in both phases (the window-by-window start-up, then
+    # the sampling after the steady state, phase.in); the records the killed segments wrote after
+    # their restart files are dropped, so every output equals the run done in one piece
+    whole, variables = full_variables(tmp_path, 0.002)
+    steady = int(re.search(r"steady_step index (\d+)", (whole / "phase.in").read_text()).group(1))
+    out = tmp_path / "segments"
+    env = dict(environment(tmp_path, out, 301, 0.0), TSG_VARS=variables)
+    in_start_up = kill_after_restart(env, "full", out, 2000)
+    assert in_start_up < steady and not (out / "DONE").exists()
+    assert "steady_step index -1" in (out / "phase.in").read_text()
+    env["SLURM_JOB_ID"] = "302"
+    in_sampling = kill_after_restart(env, "full", out, steady + 400)
+    assert in_sampling > steady + 400 and not (out / "DONE").exists()
+    assert f"steady_step index {steady}" in (out / "phase.in").read_text()
+    env["SLURM_JOB_ID"] = "303"
+    last = subprocess.run([str(SEGMENT), "full", "JOB_SCRIPT"], env=env, capture_output=True, text=True, timeout=600)
+    assert last.returncode == 0 and (out / "DONE").is_file(), last.stdout[-3000:]
+    assert f"continuing from restart.{steady + 400}" in last.stdout or f"continuing from restart.{steady + 600}" in last.stdout, last.stdout
+    logs = "".join(log.read_text() for log in out.glob("log*.lammps"))
+    assert logs.count("dropped") >= 2, logs    # mass-flow rows after the restart, in both continued segments
+    for name in ("massflow.txt", "holdup.txt", "residence.txt"):
+        assert (out / name).read_text() == (whole / name).read_text(), name
+    merged, single = elements(out / "elements.txt"), elements(whole / "elements.txt")
+    assert sorted(merged) == sorted(single) and len(single) >= 5
+    for step in single:
+        np.testing.assert_allclose(merged[step], single[step], rtol=1e-9, atol=1e-15, err_msg=f"step {step}")
