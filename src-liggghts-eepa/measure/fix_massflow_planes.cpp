@@ -94,7 +94,7 @@ void FixMassflowPlanes::open_mass_flow_file()
   header += "# columns: step time";
   for (size_t k = 0; k < planes_.size(); ++k) header += " sensor_" + std::to_string(k + 1);
   header += "\n";
-  open_file("mass-flow file", path_, header, {"# fix "}, 2);   // step time rate...
+  open_file("mass-flow file", path_, header, {"# fix "}, 2);  // step time rate...
 }
 
 void FixMassflowPlanes::init()

@@ -177,7 +177,7 @@ void FixResidenceTime::open_records_file()
             "exit_reason: outlet pass deleted lost inside\n";
   header += "# columns: " + res::record_columns(static_cast<int>(zones_.size())) + "\n";
   // the fix id, group and the zones file's name may change between the parts of a measurement
-  open_file("records file", records_path_, header, {"# fix ", "# zones file: "}, 3);   // by exit_time
+  open_file("records file", records_path_, header, {"# fix ", "# zones file: "}, 3);  // by exit_time
 }
 
 void FixResidenceTime::init()

@@ -289,11 +289,12 @@ inline FILE *open_output(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const s
         rewritten << rest.str();
         rewritten.close();
         if (!rewritten || std::rename((path + ".rollback").c_str(), path.c_str()) != 0) {
-          problem = "cannot drop the records after the restart from the " + role + " '" + path + "': " +
-                    std::strerror(errno);
+          problem =
+              "cannot drop the records after the restart from the " + role + " '" + path + "': " + std::strerror(errno);
         } else {
-          const std::string note = who + ": dropped " + std::to_string(dropped) + " records after t = " +
-                                   number(rollback.restart_time) + " s from the " + role + " '" + path +
+          const std::string note = who + ": dropped " + std::to_string(dropped) +
+                                   " records after t = " + number(rollback.restart_time) + " s from the " + role +
+                                   " '" + path +
                                    "' (written after the restart file by the run that wrote it; this run "
                                    "writes them again)";
           lmp->error->message(FLERR, note.c_str());
