@@ -71,6 +71,12 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
       if (end == value || *end != '\0' || every < 1 || every > 1000000000)
         fail(std::string("every = ") + value + " must be a positive integer");
       check_every_ = static_cast<int>(every);
+    } else if (key == "pair_every") {
+      char *end = nullptr;
+      const long every = strtol(value, &end, 10);
+      if (end == value || *end != '\0' || every < 1 || every > 1000000000)
+        fail(std::string("pair_every = ") + value + " must be a positive integer");
+      pair_every_ = static_cast<int>(every);
     } else if (key == "step_fraction") {
       step_fraction_ = positive_number(key, value, "(0, 1]");
       if (step_fraction_ > 1) fail(std::string("step_fraction = ") + value + " is outside the allowed range (0, 1]");
@@ -91,9 +97,11 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
       wall_fix_id_ = value;
     } else {
       fail("unknown keyword '" + key +
-           "' (allowed: every, step_fraction, action, max_speed, max_pair_overlap, walls, max_wall_overlap)");
+           "' (allowed: every, pair_every, step_fraction, action, max_speed, max_pair_overlap, walls, "
+           "max_wall_overlap)");
     }
   }
+  if (pair_every_ == 0) pair_every_ = check_every_;
   if (max_wall_overlap_ > 0 && wall_fix_id_.empty())
     fail("max_wall_overlap needs 'walls <ID of a fix wall/gran with meshes>'");
   if (!wall_fix_id_.empty()) {
@@ -143,7 +151,10 @@ void FixCheckContact::setup(int)
 void FixCheckContact::end_of_step()
 {
   check_motion();
-  if (update->ntimestep % check_every_ == 0) check();
+  if (update->ntimestep % check_every_ == 0)
+    check();
+  else if (update->ntimestep % pair_every_ == 0)
+    check_pair_overlap();
 }
 
 void FixCheckContact::check()

@@ -1,15 +1,16 @@
 // fix check/contact — time-step estimate, overlap monitors and guards that stop a bad run.
 //
-//   fix ID group check/contact [every N] [step_fraction f] [action error|warn] [max_speed v]
-//       [max_pair_overlap r] [walls wall-fix-ID] [max_wall_overlap r]
+//   fix ID group check/contact [every N] [pair_every M] [step_fraction f] [action error|warn]
+//       [max_speed v] [max_pair_overlap r] [walls wall-fix-ID] [max_wall_overlap r]
 //
 // Every N steps (and at set-up):
 // - the critical step estimate (Rayleigh time of the smallest particle, shortened by sqrt(1 - λp)
 //   where EEPA's stiffer unloading branch applies; physics/contact_timestep.h), compared with the
 //   time step: above step_fraction f of it the run stops (action error, the default) or warns
 //   once (action warn);
-// - the largest particle–particle overlap δ/R (R the smaller radius); above max_pair_overlap the
-//   run stops naming both particles;
+// - the largest particle–particle overlap δ/R (R the smaller radius), also every M steps in between
+//   (pair_every; a contact lasts 10 steps or more at the cases' time steps, so M of a few steps sees
+//   its peak; default M = N); above max_pair_overlap the run stops naming both particles;
 // - with walls: the largest overlap δ/R of any particle with each mesh of that fix wall/gran or
 //   wall/gran/corotating. A wall/gran/corotating fix records it at every step between checks for
 //   its corotate/fixed meshes; other meshes are measured at the check (triangles from the wall
@@ -66,6 +67,7 @@ private:
   [[noreturn]] void stop_at(int rank, const std::string &message);
 
   int check_every_;
+  int pair_every_ = 0;    // steps between pair-overlap checks; 0 until parsed: check_every_
   double step_fraction_;  // largest allowed dt / estimate
   bool error_on_violation_;
   bool warned_;

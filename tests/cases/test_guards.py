@@ -126,6 +126,41 @@ run 5000
             "smaller radius, above max_pair_overlap = 0.5") in run.log, run.log[-2000:]
 
 
+def head_on_collision(pair_every: str) -> str:
+    """Two free elastic spheres that meet head-on at 2 x 0.5 m/s; check/contact's full check only at
+    set-up (every 10^6), the pair overlap every `pair_every` steps."""
+    gap = 2e-6
+    return HEADER + f"""create_atoms 1 single -{RADIUS + gap!r} 0 0 units box
+create_atoms 1 single  {RADIUS + gap!r} 0 0 units box
+set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
+velocity all set NULL 0 0 units box
+set atom 1 vx 0.5
+set atom 2 vx -0.5
+fix integr all nve/sphere
+timestep {0.1 * RAYLEIGH!r}
+fix check all check/contact every 1000000 {pair_every}
+thermo_style custom step f_check[1]
+thermo_modify format float %.15g norm no
+thermo 1000
+run 1000
+"""
+
+
+def test_pair_overlap_between_checks_is_seen_with_pair_every(tmp_path):
+    # the largest overlap of a head-on Hertz impact (e = 1), closed form: (15 m* v^2 / (16 E* sqrt(R*)))^(2/5)
+    # with the relative speed v, m* = m/2, R* = R/2, E* = E / (2 (1 - nu^2)); the contact lasts about
+    # 40 steps, between two full checks
+    mass = DENSITY * 4 / 3 * math.pi * RADIUS**3
+    effective_youngs = YOUNGS / (2 * (1 - POISSON**2))
+    peak = (15 * (mass / 2) * 1.0**2 / (16 * effective_youngs * math.sqrt(RADIUS / 2))) ** 0.4
+    every_step = run_lmp(head_on_collision("pair_every 1"), tmp_path / "every")
+    every_step.assert_clean()
+    assert every_step.thermo[-1]["check[1]"][-1] == pytest.approx(peak / RADIUS, rel=2e-3)
+    only_checks = run_lmp(head_on_collision(""), tmp_path / "checks")
+    only_checks.assert_clean()
+    assert only_checks.thermo[-1]["check[1]"][-1] == 0.0    # never seen: the contact fell between checks
+
+
 def two_overlapping_spheres(dt: float, guard: str, nsteps: int, extra: str = "") -> str:
     """Two spheres released at an overlap of 2 % of the radius each side; elastic (e = 1)."""
     return HEADER + f"""create_atoms 1 single -0.00099 0 0 units box
