@@ -62,6 +62,8 @@ SCALES: dict[str, dict[str, Any]] = {
 # gives 2.3 g. Override with --holdup-g (e.g. from a full run's hold-up summary).
 DEFAULT_HOLDUP_G = 2.3
 PSD_CLASSES = 7   # classes of the fill's PSD (free_space.fill)
+DEFAULT_FILL_SEED = 12345
+MAX_FEED_SEED = 2_000_000   # 10000 + 1000 x seed stays below 2^31
 
 
 class UserError(Exception):
@@ -114,7 +116,10 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--out", type=Path, required=True)
     parser.add_argument("--np", type=int, default=1, help="MPI ranks")
     parser.add_argument("--holdup-g", type=float, help="hold-up mass of the periodic domain, g")
-    parser.add_argument("--seed", type=int, default=12345, help="seed of the static fill")
+    parser.add_argument("--seed", type=int, default=None,
+                        help="seed of the run's randomness: the static fill (periodic; default 12345), or the "
+                             "particle generation (nonperiodic, full: seed_psd and seed_insert become the two "
+                             "primes after 10000 + 1000 x seed; default: the inputs' 10007 and 10009)")
     parser.add_argument("--feed-at", default="inlet",
                         help="where particles are generated (full case): 'inlet' or 'element:N' (zone N, e.g. element:7 as the paper)")
     parser.add_argument("--mesh-tolerance", type=float,
@@ -132,10 +137,31 @@ def check_options(args: argparse.Namespace) -> None:
         raise UserError(f"--holdup-g {args.holdup_g} is not allowed: hold-up mass in g, 0 < mass < 100")
     if args.np < 1:
         raise UserError(f"--np {args.np} is not allowed: number of MPI ranks, >= 1")
-    if not 0 <= args.seed < 2**32:
+    if args.seed is not None and args.case == "periodic" and not 0 <= args.seed < 2**32:
         raise UserError(f"--seed {args.seed} is not allowed: 0 <= seed < 2^32")
+    if args.seed is not None and args.case != "periodic":
+        if not 0 <= args.seed <= MAX_FEED_SEED:
+            raise UserError(f"--seed {args.seed} is not allowed for the {args.case} case: 0 <= seed <= {MAX_FEED_SEED} "
+                            "(LIGGGHTS' generation seeds are 32-bit primes)")
+        twice = [name for name, _ in args.var if name in ("seed_psd", "seed_insert")]
+        if twice:
+            raise UserError(f"--seed {args.seed} and -v {twice[0]} both set the generation seeds: give one of them")
     if args.out.exists() and not args.out.is_dir():
         raise UserError(f"--out {args.out}: is a file, not a directory")
+
+
+def generation_seeds(seed: int) -> tuple[int, int]:
+    """(seed_psd, seed_insert) of a feed case for --seed: the two smallest primes above
+    10000 + 1000 x seed (LIGGGHTS takes primes > 10000; seed 0 gives the inputs' defaults 10007, 10009)."""
+    def is_prime(n: int) -> bool:
+        return n > 1 and all(n % k for k in range(2, math.isqrt(n) + 1))
+    primes: list[int] = []
+    candidate = 10000 + 1000 * seed
+    while len(primes) < 2:
+        candidate += 1
+        if is_prime(candidate):
+            primes.append(candidate)
+    return primes[0], primes[1]
 
 
 def planned_time(case: str, values: dict[str, str]) -> float | None:
@@ -154,6 +180,8 @@ def run(args: argparse.Namespace) -> int:
     check_names(given, args.case)
     scale = SCALES[args.scale]
     variables: dict[str, object] = {**scale["vars"], **scale["times"][args.case], **given}
+    if args.case != "periodic" and args.seed is not None:
+        variables["seed_psd"], variables["seed_insert"] = generation_seeds(args.seed)
     # the values the run will use: the case's defaults under the scale's and the user's
     effective = {**defined_variables(args.case), **{k: str(v) for k, v in variables.items()}}
     check_values(effective, args.case, given)
@@ -178,7 +206,7 @@ def run(args: argparse.Namespace) -> int:
     if args.case == "periodic":
         holdup = (args.holdup_g or DEFAULT_HOLDUP_G) * 1e-3
         include, data = prepared.fill_files(mesh_dir, d_mean, float(effective.get("psd_sigma", 0.05)), rho_p,
-                                            holdup * 1e3, args.seed)
+                                            holdup * 1e3, DEFAULT_FILL_SEED if args.seed is None else args.seed)
         prepared.write(out / "fill.in", include, "tsg-run-case", data)
         variables["fill_file"] = out / "fill.in"
         what = f"{prepared.fill_count(include)} particles ({holdup * 1e3:.3g} g)"
@@ -205,7 +233,8 @@ def run(args: argparse.Namespace) -> int:
         variables.setdefault("procs_x", args.np)
     effective.update({k: str(v) for k, v in variables.items()})
     (out / "params.json").write_text(json.dumps({
-        "case": args.case, "scale": args.scale, "seed": args.seed, "np": args.np,
+        "case": args.case, "scale": args.scale,
+        "seed": DEFAULT_FILL_SEED if args.seed is None and args.case == "periodic" else args.seed, "np": args.np,
         "variables": {k: str(v) for k, v in variables.items()},
         "rpm": float(effective["rpm"]), "screw_direction": int(float(effective["screw_direction"])),
         "rho_p": rho_p, "d_mean": d_mean, "mesh_dir": str(mesh_dir), "zones_file": str(out / "zones.txt"),

@@ -1,6 +1,7 @@
 """cases/seed_check.py: the log reading on a crafted log (maxima of the guards' monitors, losses,
 escapes), the pass-through refusal, and a two-seed run of the demo case over a very short window."""
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -57,3 +58,20 @@ def test_two_seeds_of_the_demo_case(tmp_path):
         assert filled > 900 and fewest == filled and escaped == 0 and 0.0 <= pair < 0.5
     fills = [(tmp_path / f"seed-{seed}" / "fill.in.data").read_text() for seed in (3, 7)]
     assert fills[0] != fills[1]                                # the seeds fill differently
+
+
+def test_generation_seeds_are_distinct_primes_and_seed_0_is_the_inputs_default():
+    # the feed cases' --seed: seed_psd and seed_insert are primes > 10000 (LIGGGHTS' rule), differ
+    # between seeds, and seed 0 gives the defaults written in the inputs
+    from tsg_cases.run_case import generation_seeds
+
+    def is_prime(n: int) -> bool:
+        return n > 1 and all(n % k for k in range(2, int(n ** 0.5) + 1))
+    pairs = [generation_seeds(seed) for seed in range(300)]
+    values = [v for pair in pairs for v in pair]
+    assert all(v > 10000 and is_prime(v) for v in values) and len(set(values)) == len(values)
+    for case in ("full", "nonperiodic"):
+        text = (ROOT / "cases" / f"in.tsg_{case}").read_text()
+        defaults = tuple(int(re.search(rf"variable {name}\s+index (\d+)", text).group(1)) for name in ("seed_psd", "seed_insert"))
+        assert generation_seeds(0) == defaults
+    assert max(generation_seeds(2_000_000)) < 2**31
