@@ -247,6 +247,20 @@ def combine_replicas(estimates: Sequence[Estimate]) -> Estimate:
                     sum(e.replicas for e in estimates))
 
 
+def replica_outlier(replicas: Sequence[float], value: float) -> tuple[float, float]:
+    """Whether one more run (`value`) belongs to the population the replicas sample: the t statistic
+    of `value` against the replicas' mean with the prediction error s √(1 + 1/n) (n replicas,
+    sample standard deviation s), and its two-sided 95 % limit t_{n−1}. Needs no interval of its
+    own: the replicas' scatter is the whole statistical error of one run's window mean (start-up
+    included), so it also holds for windows too short for a time-series interval."""
+    means = np.asarray(replicas, dtype=np.float64)
+    if means.size < 2:
+        raise ValueError(f"{means.size} replica(s): a prediction interval needs at least 2")
+    spread = float(means.std(ddof=1)) * math.sqrt(1 + 1 / means.size)
+    statistic = (value - float(means.mean())) / spread if spread > 0 else (0.0 if value == means.mean() else math.inf)
+    return statistic, t_quantile(means.size - 1)
+
+
 def difference(reference: Estimate, other: Estimate) -> Difference:
     """other − reference, interval with Welch–Satterthwaite degrees of freedom from the
     independent sample counts."""

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from tsg_analysis.uncertainty import (MIN_INDEPENDENT, Difference, Estimate, combine_replicas, difference,
+from tsg_analysis.uncertainty import (MIN_INDEPENDENT, Difference, Estimate, combine_replicas, difference, replica_outlier,
                                       estimate_mean, estimate_ratio, format_interval)
 
 SERIES = 1000
@@ -198,3 +198,22 @@ def test_drift_false_alarms_on_stationary_correlated_series():
     print(f"AR(1) φ=0.8 n=200: drift tested on {np.mean([e.drift is not None for e in estimates]):.1%}, "
           f"false alarms {false_alarms:.1%} (nominal 1 %)")
     assert false_alarms <= 0.04
+
+
+@pytest.mark.parametrize("replicas", [3, 6])
+def test_replica_prediction_interval_covers_a_new_run_95_percent(replicas):
+    # a new draw from the replicas' population falls within the 95 % prediction limit in 95 % of
+    # trials (exact for normal draws); a draw shifted by 6 sigma is an outlier nearly always
+    rng = np.random.default_rng(7)
+    trials = 4000
+    inside = shifted = 0
+    for _ in range(trials):
+        draws = rng.normal(10.0, 2.0, replicas + 1)
+        statistic, limit = replica_outlier(draws[:-1], draws[-1])
+        inside += abs(statistic) <= limit
+        statistic, limit = replica_outlier(draws[:-1], draws[-1] + 12.0)
+        shifted += abs(statistic) > limit
+    assert 0.94 <= inside / trials <= 0.96
+    assert shifted / trials > (0.5 if replicas == 3 else 0.9)
+    with pytest.raises(ValueError, match="at least 2"):
+        replica_outlier([1.0], 1.0)
