@@ -87,8 +87,8 @@ def thermo_rows(log: str) -> list[tuple[list[str], np.ndarray]]:
 def read_run(log: str) -> tuple[float, float, float, int, int, int]:
     """From the thermo output of log.lammps: the largest pair δ/R ('pp_max'), the largest wall δ/r
     over the screws and the barrel ('pg_scr1', 'pg_scr2', 'pg_bar'; nan without them), the largest
-    speed ('speed'; nan without it), the filled count (atoms in the first row), the fewest atoms,
-    the most escaped."""
+    speed ('speed'; nan without it), the filled count (atoms in the first row; in a feed case, which
+    starts empty, the largest count), the fewest atoms (a feed case: the same), the most escaped."""
     prefixes = ("Atoms", "pp_max", "pg_", "speed", "escaped")
     parts: dict[str, list[np.ndarray]] = {prefix: [] for prefix in prefixes}
     for header, rows in thermo_rows(log):
@@ -102,6 +102,11 @@ def read_run(log: str) -> tuple[float, float, float, int, int, int]:
         return float(values.max()) if values.size else float("nan")
     atoms = column["Atoms"]
     filled, fewest = (int(atoms[0]), int(atoms.min())) if atoms.size else (0, 0)
+    if filled == 0 and atoms.size:
+        # a feed case (no particles at step 0): the count grows with the generation and falls at the
+        # outlet, so the largest count is reported and losses come from LIGGGHTS' "Lost atoms" check
+        # and the escape counter only
+        filled = fewest = int(atoms.max())
     escaped = int(column["escaped"].max()) if column["escaped"].size else 0
     return largest(column["pp_max"]), largest(column["pg_"]), largest(column["speed"]), filled, fewest, escaped
 

@@ -37,6 +37,14 @@ def test_log_reading_takes_maxima_losses_and_escapes():
     assert broken.failures(0.5, 0.7) == ["run_case.py exit 1 (lmp failed)", "pair overlap nan > 0.5"]
 
 
+def test_feed_case_reports_its_largest_count_and_no_outlet_loss():
+    # a feed case starts empty, generates particles and removes them at the outlet: the count that
+    # falls from 300 to 280 is not a loss
+    log = CRAFTED_LOG.replace("     100  ", "       0  ", 1).replace("     100  ", "     300  ").replace("      99  ", "     280  ")
+    pair, wall, speed, filled, fewest, escaped = seed_check.read_run(log)
+    assert (filled, fewest) == (300, 300)
+
+
 def test_seed_is_refused_as_pass_through():
     proc = subprocess.run([sys.executable, "-m", "tsg_cases.seed_check", "--seeds", "1", "--seed", "3"],
                           capture_output=True, text=True, timeout=60)
