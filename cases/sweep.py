@@ -1,17 +1,25 @@
 """Sensitivity matrix of the seed paper as run directories: write, run (resumable), status.
 
-    tsg-sweep write SWEEP_DIR [--scale paper|demo] [--np N] [-v name value ...]
+    tsg-sweep write SWEEP_DIR [--scale paper|demo] [--np N] [--replicas R] [--only NAME ...] [-v name value ...]
     tsg-sweep run SWEEP_DIR [--only NAME ...]      # locally, one after the other
     tsg-sweep status SWEEP_DIR
+    tsg-sweep report SWEEP_DIR [--out DIR]                     # differences ± 95 % and the paper's directions
     sbatch SWEEP_DIR/sweep.slurm                               # on a cluster: one array task per run
 
 The matrix (periodic case): the Table 3 reference; Table 4's univariate variations (restitution
 0.1 and 0.9, static friction 0.1, rolling friction 0.2, relative standard deviation 0.2, high
 cohesion), each applied to particle–particle and particle–geometry alike as the paper does; and
 the particle-size series of Section 2.4 (mean diameter 200–1500 um, same mass). Overrides (-v) are
-checked against the periodic case's variables and value rules when written. Each run directory
+checked against the periodic case's variables and value rules when written. With --replicas R each
+setting is R runs that differ only in the fill seed (tsg-run-case --seed 1 … R), in NAME/seed-K:
+their window means give intervals that hold for windows too short for a time-series interval
+(docs/statistics.md). --only writes a part of the matrix (e.g. no 200 um run at demo scale). Each
+run directory
 holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once run, the case outputs and a state
-marker: RUNNING (with the process id), DONE or FAILED (with the exit status). The runner's output,
+marker: RUNNING (with the process id), DONE or FAILED (with the exit status). `report` compares each
+setting's finished runs with the reference's (tsg_analysis.summary.compare_runs: replicas combined,
+difference ± 95 % interval, significant or not) and sets the seed paper's directions and mass flows
+beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, mass-flow.png. The runner's output,
 with its progress line every ~10 s (cases/progress.py), goes to the terminal and to run.out.
 """
 from __future__ import annotations
@@ -42,20 +50,32 @@ def matrix() -> dict[str, dict[str, object]]:
     return runs
 
 
-def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str]) -> list[Path]:
+def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str], replicas: int = 1,
+          only: list[str] | None = None) -> list[Path]:
     check_names(overrides, "periodic")
-    for variables in matrix().values():
+    settings = matrix()
+    unknown = sorted(set(only or ()) - set(settings))
+    if unknown:
+        raise ParameterError(f"--only {' '.join(unknown)} is not allowed: use names of the matrix ({', '.join(settings)})")
+    if replicas < 1:
+        raise ParameterError(f"--replicas {replicas} is not allowed: runs per setting that differ in the fill seed, >= 1")
+    if only:
+        settings = {name: variables for name, variables in settings.items() if name in only}
+    for variables in settings.values():
         merged = {**{k: str(v) for k, v in variables.items()}, **overrides}
         check_values({**defined_variables("periodic"), **merged}, "periodic", overrides)
     sweep.mkdir(parents=True, exist_ok=True)
     names = []
-    for name, variables in matrix().items():
+    runs = [(name, variables, None) for name, variables in settings.items()] if replicas == 1 else \
+        [(f"{name}/seed-{seed}", variables, seed) for name, variables in settings.items() for seed in range(1, replicas + 1)]
+    for name, variables, seed in runs:
         run_dir = sweep / name
-        run_dir.mkdir(exist_ok=True)
+        run_dir.mkdir(parents=True, exist_ok=True)
         merged = {**{k: str(v) for k, v in variables.items()}, **overrides}
-        (run_dir / "sweep.json").write_text(json.dumps({"case": "periodic", "scale": scale, "vars": merged}, indent=1))
+        (run_dir / "sweep.json").write_text(json.dumps({"case": "periodic", "scale": scale, "vars": merged,
+                                                        "seed": seed}, indent=1))
         python = shlex.quote(sys.executable)
-        runner = "-m tsg_cases.run_case"
+        runner = "-m tsg_cases.run_case" + (f" --seed {seed}" if seed is not None else "")
         options = " ".join(f"-v {shlex.quote(k)} {shlex.quote(v)}" for k, v in merged.items())
         (run_dir / "run.sh").write_text(
             "#!/usr/bin/env bash\n# One run of the sweep; its state goes to RUNNING / DONE / FAILED here.\n"
@@ -105,6 +125,8 @@ def main(argv: list[str] | None = None) -> int:
     w.add_argument("sweep", type=Path)
     w.add_argument("--scale", choices=["paper", "demo"], default="paper")
     w.add_argument("--np", type=int, default=4)
+    w.add_argument("--replicas", type=int, default=1, help="runs per setting, fill seeds 1 … R")
+    w.add_argument("--only", nargs="+", default=None, metavar="NAME", help="write only these settings")
     w.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
                    help="applied to every run (e.g. shorter times)")
     r = sub.add_parser("run")
@@ -112,6 +134,9 @@ def main(argv: list[str] | None = None) -> int:
     r.add_argument("--only", nargs="*", default=None)
     s = sub.add_parser("status")
     s.add_argument("sweep", type=Path)
+    rep = sub.add_parser("report")
+    rep.add_argument("sweep", type=Path)
+    rep.add_argument("--out", type=Path, default=None, help="default SWEEP_DIR/report")
     parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
     args = parser.parse_args(argv)
     try:
@@ -127,33 +152,67 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     if args.command == "write":
         if args.np < 1:
             raise ParameterError(f"--np {args.np} is not allowed: number of MPI ranks per run, >= 1")
-        dirs = write(args.sweep, args.scale, args.np, dict(args.var))
-        print(f"{len(dirs)} runs written to {args.sweep} (run: tsg-sweep run {args.sweep}; "
+        written = write(args.sweep, args.scale, args.np, dict(args.var), args.replicas, args.only)
+        print(f"{len(written)} runs written to {args.sweep} (run: tsg-sweep run {args.sweep}; "
               f"cluster: sbatch {args.sweep / 'sweep.slurm'})")
         return 0
-    dirs = run_dirs(args.sweep)
+    dirs = {str(d.relative_to(args.sweep)): d for d in run_dirs(args.sweep)}
+    if args.command == "report":
+        return report(args.sweep, dirs, args.out or args.sweep / "report")
     if args.command == "status":
-        states = {d.name: state(d) for d in dirs}
+        states = {name: state(d) for name, d in dirs.items()}
         for name, text in states.items():
-            print(f"{name:<24}{text}")
+            print(f"{name:<32}{text}")
         counts = {k: sum(v.startswith(k) for v in states.values()) for k in ("done", "running", "failed", "pending", "interrupted")}
         print("  ".join(f"{k} {v}" for k, v in counts.items()))
         return 0
-    unknown = set(args.only or ()) - {d.name for d in dirs}
+    wanted = set(args.only or ())
+    unknown = wanted - set(dirs) - {name.split("/")[0] for name in dirs}
     if unknown:
         parser.error(f"--only: no run named {', '.join(sorted(unknown))} in {args.sweep}")
     failures = 0
-    for run_dir in dirs:
-        if args.only is not None and run_dir.name not in args.only:
+    for name, run_dir in dirs.items():
+        if args.only is not None and name not in wanted and name.split("/")[0] not in wanted:
             continue
         if state(run_dir) == "done":
-            print(f"{run_dir.name}: done, skipped")
+            print(f"{name}: done, skipped")
             continue
-        print(f"{run_dir.name}: running", flush=True)
+        print(f"{name}: running", flush=True)
         status = subprocess.run([str(run_dir / "run.sh")], env=dict(os.environ)).returncode
-        print(f"{run_dir.name}: {'done' if status == 0 else f'failed (exit {status}), see run.out'}")
+        print(f"{name}: {'done' if status == 0 else f'failed (exit {status}), see run.out'}")
         failures += status != 0
     return 1 if failures else 0
+
+def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
+    from tsg_analysis.figures import plot_paper_mass_flow
+    from tsg_analysis.model import DOMAIN_FLUX, MASS_FLOW
+    from tsg_analysis.summary import compare_runs, sweep_markdown, write_sweep_csv
+    from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown
+
+    settings: dict[str, list[Path]] = {}
+    for name, run_dir in dirs.items():
+        settings.setdefault(name.split("/")[0], [])
+        if state(run_dir) == "done":
+            settings[name.split("/")[0]].append(run_dir)
+    if not settings.get("reference"):
+        raise ParameterError(f"{sweep}: the reference has no finished run yet (tsg-sweep status {sweep})")
+    variants = {name: runs for name, runs in settings.items() if name != "reference" and runs}
+    rows = compare_runs(settings["reference"], variants)
+    out.mkdir(parents=True, exist_ok=True)
+    counts = ", ".join(f"{name} {len(runs)}/{sum(1 for n in dirs if n.split('/')[0] == name)}"
+                       for name, runs in settings.items())
+    header = f"Sweep {sweep}: finished runs per setting (replicas combined): {counts}.\n\n"
+    (out / "comparison.md").write_text(header + sweep_markdown(rows))
+    write_sweep_csv(rows, out / "comparison.csv")
+    verdicts = directions(rows)
+    table = directions_markdown([v for v in verdicts if v.claim.variant in variants])
+    (out / "directions.md").write_text(header + "Direction of each variant's difference from the reference: the seed "
+                                       "paper's and ours (significant at 95 %, else 'not resolved').\n\n" + table)
+    flux = {r.variant: r.difference for r in rows if r.quantity == MASS_FLOW and r.scope == DOMAIN_FLUX}
+    plot_paper_mass_flow(out / "mass-flow.png", [(name, flux.get(name), PAPER_MASS_FLOW.get(name)) for name in variants],
+                         PAPER_MASS_FLOW["reference"])
+    print(header + table + f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, mass-flow.png")
+    return 0
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 """Matplotlib figures of the report (Agg backend: files only, no display needed)."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import matplotlib
@@ -20,7 +21,7 @@ from .rtd import (
     tanks_in_series_density,
 )
 from .run_files import MassFlowRecord, Zones
-from .uncertainty import Estimate
+from .uncertainty import Difference, Estimate
 
 matplotlib.use("Agg")  # before the first figure: pyplot switches to it
 
@@ -214,5 +215,32 @@ def plot_plane_flows(path: Path, label: str, flows: PlaneFlows, zones: Zones) ->
                  f"({flows.frames} frames, {flows.duration:.3g} s)", fontsize=9)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("mass flow (kg/h)")
+    ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def plot_paper_mass_flow(path: Path, rows: list[tuple[str, Difference | None, tuple[float, float] | None]],
+                         reference_paper: tuple[float, float]) -> Path:
+    """Each variant's mass flow relative to the reference: ours (difference ± 95 % interval; hollow:
+    not significant) beside the paper's range (seed Fig. 18, relative to its reference's 14.5 kg/h)."""
+    if not rows:
+        return _nothing_to_plot(path, "no variant has a finished run")
+    fig, ax = plt.subplots(figsize=(max(5.0, 1.1 * len(rows) + 2), 4))
+    paper_ref = 0.5 * (reference_paper[0] + reference_paper[1])
+    labels = {"paper": "paper (Fig. 18)", "ours": "ours (95 % interval; hollow: not significant)"}
+    for i, (_, ours, paper) in enumerate(rows):
+        if paper is not None:
+            ax.add_patch(plt.Rectangle((i - 0.3, paper[0] / paper_ref - 1), 0.25,
+                                       max((paper[1] - paper[0]) / paper_ref, 0.005), color="tab:orange", alpha=0.6,
+                                       label=labels.pop("paper", None)))
+        if ours is not None and math.isfinite(ours.relative) and ours.value != 0:
+            scale = ours.relative / ours.value  # 1 / the reference's mean
+            ax.errorbar([i + 0.15], [ours.relative], yerr=[abs(ours.half_width * scale)], fmt="o", capsize=3,
+                        color="tab:blue", mfc="tab:blue" if ours.significant else "none", label=labels.pop("ours", None))
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xticks(range(len(rows)), [label for label, _, _ in rows], rotation=30, ha="right")
+    ax.set_xlim(-0.6, len(rows) - 0.4)
+    ax.set_ylabel("mass flow relative to the reference")
+    ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return _save(fig, path)

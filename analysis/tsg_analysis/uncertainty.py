@@ -11,6 +11,13 @@ Non-linear statistics (mass-weighted averages, hold-up/throughput) use the same 
 linearised pseudo-values (delta method): for R = Σa/Σb the series R + (a_t − R b_t)/b̄ has mean R
 and carries R's fluctuation to first order.
 
+Replicas (runs that differ only in the fill seed): when every replica's own interval is resolved,
+they are combined by inverse-variance weights (Birge-scaled). Otherwise, from MIN_REPLICAS
+replicas on, each replica's window mean is one independent sample of "the window mean of a run",
+and the interval is Student's t over those means with R − 1 degrees of freedom: it needs no
+autocorrelation estimate, so it holds for windows too short for a time-series interval, start-up
+transients included (it then describes the window mean, not a steady state; drift stays flagged).
+
 Drift: the window's two halves are compared, each with its own g; a difference beyond the 99 %
 two-sided normal quantile flags the series as not stationary. Fewer than MIN_INDEPENDENT independent
 samples: no number is claimed ("too few independent samples"), only an indicative interval.
@@ -28,6 +35,7 @@ import numpy as np
 CONFIDENCE = 0.95
 MIN_INDEPENDENT = 20.0  # fewer independent samples: g and so the interval are too uncertain to claim a number
 DRIFT_QUANTILE = 2.5758293035489004  # Φ⁻¹(0.995): halves differ beyond it: drift (1 % false alarms)
+MIN_REPLICAS = 3  # replica window means: R − 1 >= 2 degrees of freedom for their spread
 MIN_INDEPENDENT_PER_HALF = 10.0  # the drift test needs this many independent samples in each half
 DETECTION_ORIGINS = 200  # at most this many candidate origins for detect_equilibration (cost)
 
@@ -45,10 +53,13 @@ class Estimate:
     detected_start: float | None = None  # where the record becomes stationary (pymbar), in the record's time unit
     chosen_start: float | None = None  # where the analysed window starts
     replicas: int = 1
+    method: str = "time series"  # or "replica means": t over the replicas' window means
 
     @property
     def resolved(self) -> bool:
         """Enough independent samples for the interval to mean what it says."""
+        if self.method == "replica means":
+            return self.replicas >= MIN_REPLICAS and math.isfinite(self.half_width)
         return self.independent_samples >= MIN_INDEPENDENT and math.isfinite(self.half_width)
 
     @property
@@ -60,13 +71,19 @@ class Estimate:
         unit = f" {unit}" if unit else ""
         if not math.isfinite(self.mean):
             return "no data"
+        if not self.resolved and self.method == "replica means":
+            indicative = f"; indicative {format_interval(self.mean, self.half_width)}{unit}" \
+                if math.isfinite(self.half_width) else ""
+            return f"too few replicas: {self.replicas} < {MIN_REPLICAS} of windows too short for a time-series " \
+                   f"interval{indicative}"
         if not self.resolved:
             indicative = f"; indicative {format_interval(self.mean, self.half_width)}{unit}" \
                 if math.isfinite(self.half_width) else ""
             return f"window too short: too few independent samples ({self.independent_samples:.1f} < " \
                    f"{MIN_INDEPENDENT:g}{indicative})"
         flag = " (drifting)" if self.drift else ""
-        return f"{format_interval(self.mean, self.half_width)}{unit}{flag}"
+        over = f" ({self.replicas} replicas)" if self.method == "replica means" else ""
+        return f"{format_interval(self.mean, self.half_width)}{unit}{over}{flag}"
 
     def as_dict(self) -> dict:
         values = asdict(self)
@@ -91,7 +108,7 @@ class Difference:
     def text(self, unit: str = "") -> str:
         unit = f" {unit}" if unit else ""
         if not self.inputs_resolved:
-            return "window too short: too few independent samples"
+            return "window too short: too few independent samples (or replicas)"
         if not self.significant:
             return f"not resolved (within ± {_round_significant(self.half_width)}{unit})"
         relative = f", {self.relative:+.1%}" if math.isfinite(self.relative) else ""
@@ -220,18 +237,20 @@ def estimate_ratio(numerator: np.ndarray, denominator: np.ndarray, times: np.nda
 
 
 def combine_replicas(estimates: Sequence[Estimate]) -> Estimate:
-    """Runs that differ only in their seed: inverse-variance weighted mean. When the replicas scatter
-    more than their intervals allow (Birge ratio √(χ²/(R−1)) > 1), the error is scaled up by it."""
+    """Runs that differ only in their seed. Every replica resolved: inverse-variance weighted mean;
+    when the replicas scatter more than their intervals allow (Birge ratio √(χ²/(R−1)) > 1), the
+    error is scaled up by it. Otherwise Student's t over the replicas' window means (replica_means),
+    a number from MIN_REPLICAS replicas on."""
     if not estimates:
         raise ValueError("no replicas to combine")
     if len(estimates) == 1:
         return estimates[0]
+    if not all(e.resolved for e in estimates):
+        return replica_means(estimates)  # resolved from MIN_REPLICAS replicas on
     means = np.array([e.mean for e in estimates])
     errors = np.array([e.standard_error for e in estimates])
     independent = float(sum(e.independent_samples for e in estimates))
     samples = sum(e.samples for e in estimates)
-    drifts = [e.drift for e in estimates if e.drift is not None]
-    starts = [e.detected_start for e in estimates if e.detected_start is not None]
     if not np.all(np.isfinite(errors)) or np.any(errors == 0):
         mean, error = float(means.mean()), (float(means.std(ddof=1) / math.sqrt(len(means)))
                                             if np.all(np.isfinite(means)) else math.nan)
@@ -242,9 +261,28 @@ def combine_replicas(estimates: Sequence[Estimate]) -> Estimate:
         birge_squared = float(weights @ (means - mean) ** 2) / (len(means) - 1)
         error *= math.sqrt(max(1.0, birge_squared))
     half_width = t_quantile(independent - len(estimates)) * error if math.isfinite(error) else math.nan
-    return Estimate(mean, error, samples, independent, half_width, any(drifts) if drifts else None,
-                    max(starts) if starts else None, estimates[0].chosen_start,
+    return Estimate(mean, error, samples, independent, half_width, *_flags(estimates),
                     sum(e.replicas for e in estimates))
+
+
+def _flags(estimates: Sequence[Estimate]) -> tuple[bool | None, float | None, float | None]:
+    """(any drift, latest detected start, the chosen start) of replicas."""
+    drifts = [e.drift for e in estimates if e.drift is not None]
+    starts = [e.detected_start for e in estimates if e.detected_start is not None]
+    return (any(drifts) if drifts else None), (max(starts) if starts else None), estimates[0].chosen_start
+
+
+def replica_means(estimates: Sequence[Estimate]) -> Estimate:
+    """Each replica's window mean is one independent sample: mean ± t_{R−1} s/√R. Valid whatever
+    the window's autocorrelation, because the replicas are independent runs."""
+    means = np.array([e.mean for e in estimates], dtype=np.float64)
+    if means.size < 2 or not np.all(np.isfinite(means)):
+        error = math.nan
+    else:
+        error = float(means.std(ddof=1)) / math.sqrt(means.size)
+    half_width = t_quantile(means.size - 1) * error if math.isfinite(error) else math.nan
+    return Estimate(float(means.mean()), error, int(means.size), float(means.size), half_width, *_flags(estimates),
+                    int(means.size), "replica means")
 
 
 def replica_outlier(replicas: Sequence[float], value: float) -> tuple[float, float]:

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from tsg_analysis.uncertainty import (MIN_INDEPENDENT, Difference, Estimate, combine_replicas, difference, replica_outlier,
+from tsg_analysis.uncertainty import (MIN_INDEPENDENT, MIN_REPLICAS, Difference, Estimate, combine_replicas, difference,
+                                      replica_outlier,
                                       estimate_mean, estimate_ratio, format_interval)
 
 SERIES = 1000
@@ -133,6 +134,43 @@ def test_replicas_combine_with_correct_coverage_and_widen_when_they_disagree():
     # replicas whose means differ by far more than their intervals: the interval grows to cover them
     apart = [Estimate(m, 0.01, 100, 100.0, 0.02) for m in (1.0, 2.0, 3.0)]
     assert combine_replicas(apart).half_width > 1.0
+
+
+def short_windows(rng: np.random.Generator, count: int, truth: float) -> tuple[list[Estimate], float]:
+    """Windows far too short for a time-series interval (40 samples, g = 39), each starting in a
+    transient that decays over 8 samples, as a start-up left in the window does; and the expected
+    window mean those windows estimate (the transient included)."""
+    length, transient = 40, 2.0 * np.exp(-np.arange(40) / 8.0)
+    series = truth + transient + ar1(rng, count, length, 0.95)
+    return [estimate_mean(row, detect=False) for row in series], truth + float(transient.mean())
+
+
+def test_replica_means_give_intervals_where_time_series_cannot():
+    rng = np.random.default_rng(24)
+    estimates, expected = short_windows(rng, 3 * SERIES, 5.0)
+    # alone, a window is "too short" (a few in 3 000 pass the gate on an underestimated g)
+    assert np.mean([e.resolved for e in estimates]) < 0.02
+    combined = [combine_replicas(estimates[i:i + 3]) for i in range(0, len(estimates), 3)]
+    assert all(c.method == "replica means" and c.resolved and c.replicas == 3 for c in combined)
+    fraction = np.mean([abs(c.mean - expected) <= c.half_width for c in combined])
+    print(f"replica means of triples of short windows: coverage {fraction:.3f}")
+    assert 0.93 <= fraction <= 0.97
+    assert "(3 replicas)" in combined[0].text()
+    # two replicas are too few: no number is claimed
+    assert MIN_REPLICAS == 3 and not combine_replicas(estimates[:2]).resolved
+
+
+def test_difference_of_replica_means_covers_the_true_difference():
+    rng = np.random.default_rng(25)
+    first, expected_first = short_windows(rng, 3 * SERIES, 5.0)
+    second, expected_second = short_windows(rng, 4 * SERIES, 5.3)
+    differences = [difference(combine_replicas(first[3 * i:3 * i + 3]), combine_replicas(second[4 * i:4 * i + 4]))
+                   for i in range(SERIES)]
+    truth = expected_second - expected_first
+    fraction = np.mean([abs(d.value - truth) <= d.half_width for d in differences])
+    print(f"differences of replica means (3 against 4 replicas): coverage {fraction:.3f}")
+    assert 0.93 <= fraction <= 0.98  # Welch's degrees of freedom are slightly conservative at 2-3 per side
+    assert all(d.inputs_resolved for d in differences)
 
 
 def test_mass_weighted_ratio_interval():

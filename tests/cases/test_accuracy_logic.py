@@ -78,7 +78,7 @@ def test_unresolved_inputs_are_too_short_and_have_no_bound():
     error = fidelity(1.0, 0.4, resolved=False)
     assert math.isnan(error.bound)
     assert verdict(error, Tolerance.parse("50%")) == TOO_SHORT
-    assert error.text() == "window too short: too few independent samples"
+    assert error.text() == "window too short: too few independent samples (or replicas)"
 
 
 def test_sampling_point_error_is_its_own_half_width():

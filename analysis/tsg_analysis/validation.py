@@ -1,0 +1,123 @@
+"""What the seed paper reports for its sensitivity matrix, and our runs' directions beside it.
+
+Morrissey, Hanley & Ooi 2021, Section 4 (mass flow in the periodic system at fixed hold-up, Fig. 18)
+and Sections 3.2–3.4 (per-element directions, Figs. 13–16). Directions are the sign of a variant's
+difference from the reference: +1 higher, −1 lower, 0 "almost no change" (the paper's words).
+`directions(rows)` sets ours beside them: a difference counts only when it is significant
+(its 95 % interval excludes zero; uncertainty.Difference), otherwise "not resolved".
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+
+# Section 4: mass flow (kg/h) at MFS_1/MFS_2 of the periodic system; the reference is the full
+# granulator's 14.4 kg/h, reproduced as 14.4–14.6 by the periodic reference.
+PAPER_MASS_FLOW: dict[str, tuple[float, float]] = {
+    "reference": (14.4, 14.6),
+    "restitution-0.1": (14.4, 14.6),       # "almost no change" (low restitution)
+    "psd-sigma-0.2": (14.4, 14.6),         # "almost no change" (size distribution)
+    "restitution-0.9": (13.7, 14.1),       # "slightly reducing"
+    "static-friction-0.1": (20.0, 20.5),   # "just over 20 kg/h" (≈ +5 kg/h)
+    "rolling-friction-0.2": (12.0, 13.3),  # "approximately 12–13.3 kg/h"
+    "cohesion-high": (3.5, 4.5),           # "reduced by just over 10 kg/h" (Fig. 18: about 4)
+}
+
+CONVEYING = ("C1", "C2")
+KNEADING = ("K1", "K2", "K3", "K4", "K5", "K6")
+FIRST_KNEADING = ("K1", "K2")
+
+
+@dataclass(frozen=True)
+class Claim:
+    variant: str
+    quantity: str
+    scopes: tuple[str, ...]
+    direction: int  # +1, −1, 0
+    source: str  # where the paper says it
+
+    @property
+    def label(self) -> str:
+        scope = "conveying" if self.scopes == CONVEYING else "kneading" if self.scopes == KNEADING else \
+            "K1–K2" if self.scopes == FIRST_KNEADING else ", ".join(self.scopes)
+        return f"{self.quantity} {scope}"
+
+
+def _mass_flow_claims() -> list[Claim]:
+    low, high = PAPER_MASS_FLOW["reference"]
+    claims = []
+    for variant, (a, b) in PAPER_MASS_FLOW.items():
+        if variant != "reference":
+            direction = 0 if (a, b) == (low, high) else (1 if a > high else -1)
+            claims.append(Claim(variant, MASS_FLOW, (DOMAIN_FLUX,), direction, "Sec. 4, Fig. 18"))
+    return claims
+
+
+PAPER_CLAIMS: list[Claim] = [
+    *_mass_flow_claims(),
+    Claim("restitution-0.9", SOLID_FRACTION, KNEADING, +1, "Sec. 4: slightly higher on kneading elements"),
+    Claim("restitution-0.9", AXIAL_VELOCITY, KNEADING, -1, "Sec. 3.2, Fig. 13: reduced axial velocity, kneading"),
+    Claim("static-friction-0.1", SOLID_FRACTION, KNEADING, -1, "Sec. 3.3, Fig. 14: lower, particularly kneading"),
+    Claim("static-friction-0.1", SOLID_FRACTION, CONVEYING, -1, "Sec. 3.3, Fig. 14: lower across all elements"),
+    Claim("static-friction-0.1", AXIAL_VELOCITY, KNEADING, +1, "Sec. 3.3, Fig. 14: larger μs,pg retards flow"),
+    Claim("rolling-friction-0.2", SOLID_FRACTION, FIRST_KNEADING, +1, "Sec. 3.3, Fig. 15: held up on K1, K2"),
+    Claim("rolling-friction-0.2", AXIAL_VELOCITY, CONVEYING + KNEADING, -1, "Sec. 3.3, Fig. 15: lower on all elements"),
+    Claim("cohesion-high", SOLID_FRACTION, FIRST_KNEADING, +1, "Sec. 3.4, Fig. 16: up on the first two kneading"),
+    Claim("cohesion-high", SOLID_FRACTION, CONVEYING, -1, "Sec. 3.4, Fig. 16: down on conveying (fixed mass)"),
+    Claim("cohesion-high", AXIAL_VELOCITY, KNEADING, -1, "Sec. 3.4, Fig. 16: longitudinal velocity decreases"),
+]
+
+
+@dataclass(frozen=True)
+class Verdict:
+    claim: Claim
+    ours: str  # "+", "−", "not resolved", "mixed", "no data"
+    agrees: str  # "yes", "no", "not resolved", "partly"
+    detail: str  # the differences, scope by scope
+
+
+def _sign(value: float) -> str:
+    return "+" if value > 0 else "−"
+
+
+def directions(rows: Sequence, claims: Sequence[Claim] = PAPER_CLAIMS) -> list[Verdict]:
+    """Each claim against the comparison rows (summary.ComparisonRow) of its variant."""
+    verdicts = []
+    for claim in claims:
+        found = [r for r in rows if r.variant == claim.variant and r.quantity == claim.quantity and r.scope in claim.scopes]
+        if not found:
+            verdicts.append(Verdict(claim, "no data", "not resolved", "variant not run"))
+            continue
+        signs = [(_sign(r.difference.value) if r.difference.significant else "·") for r in found]
+        detail = ", ".join(f"{r.scope} {r.difference.relative:+.0%}{'' if r.difference.significant else ' (n.s.)'}"
+                           for r in found)
+        resolved = {s for s in signs if s != "·"}
+        if not resolved:
+            ours = "not resolved"
+        elif len(resolved) == 2:
+            ours = "mixed"
+        else:
+            ours = resolved.pop()
+        expected = {1: "+", -1: "−", 0: None}[claim.direction]
+        if claim.direction == 0:
+            agrees = "yes" if ours == "not resolved" else "no"
+        elif ours == expected:
+            agrees = "yes" if "·" not in signs else "partly"
+        elif ours in ("not resolved",):
+            agrees = "not resolved"
+        else:
+            agrees = "no" if ours != "mixed" else "partly"
+        verdicts.append(Verdict(claim, ours, agrees, detail))
+    return verdicts
+
+
+def directions_markdown(verdicts: Sequence[Verdict]) -> str:
+    arrow = {1: "+", -1: "−", 0: "no change"}
+    lines = ["| variant | quantity | paper | ours | agrees | our differences (relative; n.s. = not significant) | paper's words |",
+             "|---|---|---|---|---|---|---|"]
+    for v in verdicts:
+        lines.append(f"| {v.claim.variant} | {v.claim.label} | {arrow[v.claim.direction]} | {v.ours} | {v.agrees} | "
+                     f"{v.detail} | {v.claim.source} |")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,92 @@
+"""The seed paper's sensitivity claims and our directions beside them: a direction counts only when
+its difference is significant; 'almost no change' agrees only with a difference that is not."""
+import numpy as np
+from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+from tsg_analysis.summary import ComparisonRow
+from tsg_analysis.uncertainty import Difference, Estimate
+from tsg_analysis.validation import KNEADING, PAPER_CLAIMS, PAPER_MASS_FLOW, directions, directions_markdown
+
+UNUSED = Estimate(1.0, 0.1, 10, 10.0, 0.2)
+
+
+def row(variant: str, quantity: str, scope: str, value: float, half_width: float) -> ComparisonRow:
+    return ComparisonRow(variant, quantity, scope, UNUSED, UNUSED, Difference(value, half_width, value / 10.0, True))
+
+
+def verdict(verdicts, variant, quantity, scopes=None):
+    return next(v for v in verdicts if v.claim.variant == variant and v.claim.quantity == quantity
+                and (scopes is None or v.claim.scopes == scopes))
+
+
+def test_mass_flow_claims_follow_the_papers_numbers():
+    flows = {c.variant: c.direction for c in PAPER_CLAIMS if c.quantity == MASS_FLOW}
+    assert flows == {"restitution-0.1": 0, "psd-sigma-0.2": 0, "restitution-0.9": -1, "static-friction-0.1": 1,
+                     "rolling-friction-0.2": -1, "cohesion-high": -1}
+    assert PAPER_MASS_FLOW["static-friction-0.1"][0] > PAPER_MASS_FLOW["reference"][1]
+
+
+def test_directions_count_only_significant_differences():
+    rows = [row("static-friction-0.1", MASS_FLOW, DOMAIN_FLUX, +3.0, 1.0),            # + significant
+            row("cohesion-high", MASS_FLOW, DOMAIN_FLUX, -0.5, 1.0),                  # within its interval
+            row("restitution-0.1", MASS_FLOW, DOMAIN_FLUX, +2.0, 1.0),                # paper: no change
+            row("psd-sigma-0.2", MASS_FLOW, DOMAIN_FLUX, +0.2, 1.0),                  # paper: no change
+            *[row("static-friction-0.1", SOLID_FRACTION, k, -0.01, 0.002) for k in KNEADING[:3]],
+            *[row("static-friction-0.1", SOLID_FRACTION, k, -0.001, 0.002) for k in KNEADING[3:]],
+            row("static-friction-0.1", AXIAL_VELOCITY, "K1", +0.01, 0.002),
+            row("static-friction-0.1", AXIAL_VELOCITY, "K2", -0.01, 0.002)]
+    verdicts = directions(rows)
+    assert (verdict(verdicts, "static-friction-0.1", MASS_FLOW).agrees, verdict(verdicts, "static-friction-0.1", MASS_FLOW).ours) == ("yes", "+")
+    assert verdict(verdicts, "cohesion-high", MASS_FLOW).agrees == "not resolved"
+    assert verdict(verdicts, "restitution-0.1", MASS_FLOW).agrees == "no"
+    assert verdict(verdicts, "psd-sigma-0.2", MASS_FLOW).agrees == "yes"
+    kneading = verdict(verdicts, "static-friction-0.1", SOLID_FRACTION, KNEADING)
+    assert (kneading.ours, kneading.agrees) == ("−", "partly") and "K4 -0% (n.s.)" in kneading.detail
+    assert verdict(verdicts, "static-friction-0.1", AXIAL_VELOCITY).ours == "mixed"
+    assert verdict(verdicts, "rolling-friction-0.2", MASS_FLOW).ours == "no data"
+    table = directions_markdown(verdicts)
+    assert "| static-friction-0.1 | mass flow domain flux Σ m v_x / L | + | + | yes |" in table
+
+
+def test_sweep_with_replicas_reports_differences_and_directions(tmp_path):
+    """tsg-sweep write --replicas lays out NAME/seed-K runs with their seeds; report combines the
+    finished replicas and sets the paper's directions beside ours."""
+    import os
+    import subprocess
+    import sys
+
+    from make_fixture import write_run
+
+    sweep = [sys.executable, "-m", "tsg_cases.sweep"]
+    env = dict(os.environ)
+    subprocess.run([*sweep, "write", str(tmp_path), "--scale", "demo", "--np", "1", "--replicas", "3",
+                    "--only", "reference", "static-friction-0.1", "cohesion-high"], check=True, capture_output=True, env=env)
+    names = (tmp_path / "runs.txt").read_text().split()
+    assert names == [f"{n}/seed-{k}" for n in ("reference", "static-friction-0.1", "cohesion-high") for k in (1, 2, 3)]
+    assert "--seed 2 periodic" in (tmp_path / "cohesion-high" / "seed-2" / "run.sh").read_text()
+    rng = np.random.default_rng(5)
+    for number, name in enumerate(names):
+        run_dir = tmp_path / name
+        write_run(run_dir, dumps=None, meshes=False, seed=100 + number)
+        # elements.txt rows: index, solid fraction, speed, axial velocity, count, volume. Each replica
+        # gets its own noise; static friction 0.1: solid fraction × 0.8, axial velocity × 1.5
+        fraction, axial = (0.8, 1.5) if name.startswith("static-friction") else (1.0, 1.0)
+        lines = []
+        for line in (run_dir / "elements.txt").read_text().splitlines():
+            w = line.split()
+            if len(w) == 6 and w[0] != "#":
+                w[1] = f"{float(w[1]) * fraction * (1 + 0.03 * rng.normal()):.6g}"
+                w[3] = f"{float(w[3]) * axial * (1 + 0.03 * rng.normal()):.6g}"
+            lines.append(" ".join(w))
+        (run_dir / "elements.txt").write_text("\n".join(lines) + "\n")
+        if name != "cohesion-high/seed-3":  # a run that has not finished is left out
+            (run_dir / "DONE").touch()
+    proc = subprocess.run([*sweep, "report", str(tmp_path)], capture_output=True, text=True, env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert "reference 3/3, static-friction-0.1 3/3, cohesion-high 2/3" in proc.stdout
+    assert "| static-friction-0.1 | mass flow domain flux Σ m v_x / L | + | + | yes |" in proc.stdout
+    assert "| static-friction-0.1 | axial velocity kneading | + | + | yes |" in proc.stdout
+    assert "| static-friction-0.1 | solid fraction kneading | − | − | yes |" in proc.stdout
+    # two replicas of an unchanged setting: no number, so no direction
+    assert "| cohesion-high | mass flow domain flux Σ m v_x / L | − | not resolved | not resolved |" in proc.stdout
+    for name in ("comparison.md", "comparison.csv", "directions.md", "mass-flow.png"):
+        assert (tmp_path / "report" / name).stat().st_size > 0
