@@ -1,7 +1,7 @@
 """Accuracy against cost: ladders of each fidelity setting against a reference run (issue 15).
 
-    tsg-accuracy STUDY_DIR [--case periodic] [--scale demo] [--np 1] [--holdup-g G] [--seed S]
-                 [-v NAME VALUE ...] [--ladder SETTING VALUE [VALUE ...] ...]
+    tsg-accuracy STUDY_DIR [--case periodic] [--scale demo] [--np 1] [--holdup-g G]
+                 [--seed S | --replicas R] [-v NAME VALUE ...] [--ladder SETTING VALUE [VALUE ...] ...]
                  [--tolerance 5%] [--tolerance-quantity "solid fraction"] [--no-run]
 
 The reference is the case at the scale's settings with your options (-v, --np, --mesh-tolerance,
@@ -21,7 +21,10 @@ dt_fraction and d_mean points keep the reference's output interval in simulated 
 (stats_every and thermo_every scaled by the ratio of the time steps), so every point has as many
 samples as the reference. Every point is one run of tsg-run-case in STUDY_DIR/<setting>-<value>
 (the reference in STUDY_DIR/reference) with point.json (its command and state); a finished point
-with the same command is reused, so an interrupted study resumes where it stopped.
+with the same command is reused, so an interrupted study resumes where it stopped. With
+--replicas R the reference and every run point are R runs that differ only in the fill seed
+(1 ... R), in <point>/seed-K: their window means give the intervals where each window is too short
+for a time-series interval (docs/statistics.md), and a point's cost is that of all its replicas.
 
 Per point and key quantity (mass flow by the flux estimator, per-element solid fraction, axial
 velocity and speed, mean residence time where complete records exist): the error against the
@@ -53,9 +56,9 @@ from tsg_analysis.accuracy import (
     RunCost,
     Tolerance,
     cheapest,
-    key_estimates,
     point_errors,
     quantity_verdict,
+    replica_key_estimates,
     resolved_scopes,
     run_cost,
     sampling_ends,
@@ -66,7 +69,7 @@ from tsg_analysis.run_files import AnalysisInputError, read_zones
 from tsg_analysis.uncertainty import Estimate
 from tsg_cases.case_parameters import CASES, RUNNER_SET, ParameterError, check_names, defined_variables
 from tsg_cases.command_line import run_reporting
-from tsg_cases.run_case import SCALES
+from tsg_cases.run_case import DEFAULT_FILL_SEED, SCALES
 
 SETTINGS = {
     "dt_fraction": "time step, fraction of the Rayleigh time",
@@ -92,8 +95,9 @@ class Point:
     setting: str  # "reference" or one of SETTINGS
     value: str
     case: str
-    argv: list[str]  # tsg-run-case arguments without --out
-    run_dir: Path
+    argvs: list[list[str]]  # tsg-run-case arguments without --out, one per replica
+    run_dir: Path  # the point's directory
+    run_dirs: list[Path]  # one per replica: run_dir itself, or run_dir/seed-K
     state: str = "pending"
     wall_seconds: float | None = None  # of the whole point, preparation included
     cpu_seconds: float | None = None  # user + system time of the runner and lmp: less sensitive to the machine's load
@@ -104,6 +108,11 @@ class Point:
     @property
     def label(self) -> str:
         return "reference" if self.setting == "reference" else f"{self.setting} {self.value}"
+
+    @property
+    def argv(self) -> list[str]:
+        """The first replica's arguments (all replicas differ only in --seed)."""
+        return self.argvs[0] if self.argvs else []
 
 
 def number(text: str, what: str, low: float, high: float) -> float:
@@ -156,8 +165,21 @@ class Study:
                                  f"guard_step_fraction = {guard:g}: the run would stop; add -v guard_step_fraction "
                                  f"{float(max(values, key=float)) + 1e-4:g} (a little above: the guard compares floating-point ratios)")
 
-    def argv(self, case: str, np_: int, variables: dict[str, str], tolerance: float | None) -> list[str]:
-        argv = [case, "--scale", self.args.scale, "--np", str(np_), "--seed", str(self.args.seed)]
+    @property
+    def seeds(self) -> list[int]:
+        if self.args.replicas > 1:
+            return list(range(1, self.args.replicas + 1))
+        return [self.args.seed if self.args.seed is not None else DEFAULT_FILL_SEED]
+
+    def point(self, setting: str, value: str, case: str, np_: int, variables: dict[str, str],
+              tolerance: float | None, run_dir: Path) -> Point:
+        """A run point: one run per replica seed."""
+        argvs = [self.argv(case, np_, variables, tolerance, seed) for seed in self.seeds]
+        dirs = [run_dir / f"seed-{seed}" for seed in self.seeds] if self.args.replicas > 1 else [run_dir]
+        return Point(setting, value, case, argvs, run_dir, dirs)
+
+    def argv(self, case: str, np_: int, variables: dict[str, str], tolerance: float | None, seed: int) -> list[str]:
+        argv = [case, "--scale", self.args.scale, "--np", str(np_), "--seed", str(seed)]
         if self.args.holdup_g is not None:
             argv += ["--holdup-g", str(self.args.holdup_g)]
         if tolerance is not None:
@@ -207,14 +229,14 @@ class Study:
 
     def points(self) -> list[Point]:
         a = self.args
-        reference = Point("reference", "", a.case, self.argv(a.case, a.np, dict(self.user_vars), a.mesh_tolerance),
-                          self.dir / "reference")
+        reference = self.point("reference", "", a.case, a.np, dict(self.user_vars), a.mesh_tolerance,
+                               self.dir / "reference")
         points = [reference]
         for setting, *values in a.ladder:
             for value in values:
                 run_dir = self.dir / f"{setting}-{value}"
                 if setting == "sampling":
-                    points.append(Point(setting, value, a.case, [], self.dir / "reference"))
+                    points.append(Point(setting, value, a.case, [], reference.run_dir, reference.run_dirs))
                     continue
                 case, np_, tolerance, variables = a.case, a.np, a.mesh_tolerance, dict(self.user_vars)
                 if setting in ("dt_fraction", "d_mean", "screw_drive"):
@@ -225,7 +247,7 @@ class Study:
                     np_ = int(value)
                 elif setting == "domain":
                     case, variables = value, self.domain_vars(value)
-                point = Point(setting, value, case, self.argv(case, np_, variables, tolerance), run_dir)
+                point = self.point(setting, value, case, np_, variables, tolerance, run_dir)
                 if self.is_reference(setting, value):
                     raise StudyError(f"--ladder {setting} {value} is the reference's own setting: leave it out "
                                      "(the reference is every ladder's point of comparison)")
@@ -235,37 +257,51 @@ class Study:
     # ---- running -------------------------------------------------------------------------------
 
     def state(self, point: Point) -> str:
-        record = point.run_dir / "point.json"
-        if not record.is_file():
-            return "pending"
-        saved = json.loads(record.read_text())
-        if saved.get("argv") != point.argv:
-            raise StudyError(f"{point.run_dir} was run with other options ({' '.join(saved.get('argv', []))}): "
-                             "remove it or use another study directory")
-        point.wall_seconds = saved.get("wall_seconds")
-        point.cpu_seconds = saved.get("cpu_seconds")
-        return str(saved.get("state", "pending"))
+        """done when every replica is; failed when one failed; else pending."""
+        states, point.wall_seconds, point.cpu_seconds = [], None, None
+        for argv, run_dir in zip(point.argvs, point.run_dirs):
+            record = run_dir / "point.json"
+            if not record.is_file():
+                states.append("pending")
+                continue
+            saved = json.loads(record.read_text())
+            if saved.get("argv") != argv:
+                raise StudyError(f"{run_dir} was run with other options ({' '.join(saved.get('argv', []))}): "
+                                 "remove it or use another study directory")
+            point.wall_seconds = (point.wall_seconds or 0.0) + (saved.get("wall_seconds") or 0.0)
+            point.cpu_seconds = (point.cpu_seconds or 0.0) + (saved.get("cpu_seconds") or 0.0)
+            states.append(str(saved.get("state", "pending")))
+        failed = [x for x in states if x.startswith("failed")]
+        return failed[0] if failed else "done" if all(x == "done" for x in states) else "pending"
 
     def run_point(self, point: Point) -> None:
-        point.run_dir.mkdir(parents=True, exist_ok=True)
-        record = point.run_dir / "point.json"
-        command = [sys.executable, "-m", "tsg_cases.run_case", *point.argv, "--out", str(point.run_dir)]
-        record.write_text(json.dumps({"argv": point.argv, "state": "running"}, indent=1) + "\n")
-        print(f"[accuracy] {point.label}: running ({point.run_dir.name})", flush=True)
-        start, before = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
-        with open(point.run_dir / "run.out", "w") as out:
-            status = subprocess.run(command, stdout=out, stderr=subprocess.STDOUT).returncode
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        point.wall_seconds = time.perf_counter() - start
-        point.cpu_seconds = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
-        point.state = "done" if status == 0 else f"failed (exit {status})"
-        if status != 0:  # the runner's one-line reason, for the table
-            lines = [line for line in (point.run_dir / "run.out").read_text(errors="replace").splitlines() if line.strip()]
-            point.note = lines[-1][:300] if lines else ""
-        record.write_text(json.dumps({"argv": point.argv, "state": point.state, "exit_status": status,
-                                      "wall_seconds": point.wall_seconds, "cpu_seconds": point.cpu_seconds,
-                                      "finished": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}, indent=1) + "\n")
-        print(f"[accuracy] {point.label}: {point.state} in {point.wall_seconds:.0f} s", flush=True)
+        """Runs the replicas not yet done; the point's state and cost from all of them."""
+        status = 0
+        for argv, run_dir in zip(point.argvs, point.run_dirs):
+            record = run_dir / "point.json"
+            if record.is_file() and json.loads(record.read_text()).get("state") == "done":
+                continue
+            run_dir.mkdir(parents=True, exist_ok=True)
+            command = [sys.executable, "-m", "tsg_cases.run_case", *argv, "--out", str(run_dir)]
+            record.write_text(json.dumps({"argv": argv, "state": "running"}, indent=1) + "\n")
+            name = run_dir.relative_to(self.dir)
+            print(f"[accuracy] {point.label}: running ({name})", flush=True)
+            start, before = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
+            with open(run_dir / "run.out", "w") as out:
+                status = subprocess.run(command, stdout=out, stderr=subprocess.STDOUT).returncode
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            wall = time.perf_counter() - start
+            cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+            state = "done" if status == 0 else f"failed (exit {status})"
+            record.write_text(json.dumps({"argv": argv, "state": state, "exit_status": status, "wall_seconds": wall,
+                                          "cpu_seconds": cpu,
+                                          "finished": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}, indent=1) + "\n")
+            print(f"[accuracy] {point.label}: {state} in {wall:.0f} s ({name})", flush=True)
+            if status != 0:  # the runner's one-line reason, for the table
+                lines = [line for line in (run_dir / "run.out").read_text(errors="replace").splitlines() if line.strip()]
+                point.note = lines[-1][:300] if lines else ""
+                break
+        point.state = self.state(point)
 
     # ---- analysis ------------------------------------------------------------------------------
 
@@ -275,25 +311,28 @@ class Study:
             for p in points:
                 p.note = "no reference yet"
             return None
-        ref_estimates = key_estimates(reference.run_dir)
-        ref_zones = read_zones(reference.run_dir / "zones.txt")
-        reference.cost = run_cost(reference.run_dir)
+        ref_estimates = replica_key_estimates(reference.run_dirs)
+        ref_zones = read_zones(reference.run_dirs[0] / "zones.txt")
+        ref_costs = [run_cost(d) for d in reference.run_dirs]
+        reference.cost = RunCost.of_replicas(ref_costs)
         sampling = [p for p in points if p.setting == "sampling"]
         if sampling:
-            ends = sampling_ends(reference.run_dir, [float(p.value) for p in sampling])
-            for p, end in zip(sampling, ends):
+            fractions = [float(p.value) for p in sampling]
+            ends = [sampling_ends(d, fractions) for d in reference.run_dirs]  # [replica][fraction]
+            for k, p in enumerate(sampling):
                 p.state = "done"
-                p.cost = reference.cost.until(end)
+                mine = [replica_ends[k] for replica_ends in ends]
+                p.cost = RunCost.of_replicas([c.until(end) for c, end in zip(ref_costs, mine)])
                 try:
-                    p.errors = point_errors(ref_estimates, key_estimates(reference.run_dir, end), sampling=True)
+                    p.errors = point_errors(ref_estimates, replica_key_estimates(reference.run_dirs, mine), sampling=True)
                 except AnalysisInputError as problem:
                     p.note = str(problem)
         for p in points[1:]:
             if p.setting == "sampling" or p.state != "done":
                 continue
             try:
-                p.cost = run_cost(p.run_dir)
-                estimates = key_estimates(p.run_dir, reference_zones=ref_zones if p.case != reference.case else None)
+                p.cost = RunCost.of_replicas([run_cost(d) for d in p.run_dirs])
+                estimates = replica_key_estimates(p.run_dirs, reference_zones=ref_zones if p.case != reference.case else None)
                 p.errors = point_errors(ref_estimates, estimates)
             except AnalysisInputError as problem:
                 p.note = str(problem)
@@ -347,7 +386,7 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
         "reference": {"argv": points[0].argv, "state": points[0].state},
         "cost_measure": "core_seconds: ranks x LIGGGHTS loop time of the run (start-up + sampling) that gave the number",
         "points": [{"label": p.label, "setting": p.setting, "value": p.value, "case": p.case, "run_dir": p.run_dir.name,
-                    "state": p.state, "note": p.note, "argv": p.argv,
+                    "replica_dirs": [str(d.relative_to(study.dir)) for d in p.run_dirs], "state": p.state, "note": p.note, "argv": p.argv,
                     "cost": p.cost.as_dict() if p.cost else None,
                     "wall_seconds_including_preparation": p.wall_seconds,
                     "cpu_seconds_including_preparation": p.cpu_seconds,
@@ -390,7 +429,10 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
 def markdown(study: Study, points: list[Point], quantities: list[str], controls_resolved: list[str],
              tolerance: Tolerance | None, tolerance_quantity: str, choice) -> str:
     lines = [f"# Accuracy against cost: {study.args.case} case, {study.args.scale} scale", "",
-             f"Reference: `tsg-run-case {' '.join(points[0].argv)}`", "",
+             f"Reference: `tsg-run-case {' '.join(points[0].argv)}`" + (
+                 f" (seed 1; seeds 1 ... {study.args.replicas}): every run point is {study.args.replicas} "
+                 "replicas (fill seeds), combined (replica window means where a window is too short for a "
+                 "time-series interval); costs are those of all replicas" if study.args.replicas > 1 else ""), "",
              "Error of each point against the reference, the largest over the scopes (elements) of a quantity, "
              "relative to the reference value; ± 95 % interval. 'not resolved': every scope's interval covers "
              "zero (|error| ≤ the bound shown). Sampling: the reference's own record truncated, its statistical "
@@ -476,7 +518,9 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--scale", choices=sorted(SCALES), default="demo")
     parser.add_argument("--np", type=int, default=1, help="MPI ranks of the reference and every point")
     parser.add_argument("--holdup-g", type=float, help="hold-up mass of the periodic domain, g")
-    parser.add_argument("--seed", type=int, default=12345, help="seed of the static fill")
+    parser.add_argument("--seed", type=int, default=None, help="seed of the static fill (one run per point)")
+    parser.add_argument("--replicas", type=int, default=1,
+                        help="runs per point that differ only in the fill seed (1 ... R)")
     parser.add_argument("--mesh-tolerance", type=float, help="the reference's mesh tolerance, m (default: the scale's)")
     parser.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
                         help="a variable of the reference (and every point)")
@@ -496,6 +540,11 @@ def run(args: argparse.Namespace) -> int:
         check_ladder(setting, values)
     if args.np < 1:
         raise StudyError(f"--np {args.np} is not allowed: number of MPI ranks, >= 1")
+    if args.replicas < 1:
+        raise StudyError(f"--replicas {args.replicas} is not allowed: runs per point that differ in the fill seed, >= 1")
+    if args.replicas > 1 and args.seed is not None:
+        raise StudyError(f"--seed {args.seed} is not allowed with --replicas {args.replicas}: the replicas' seeds are "
+                         f"1 ... {args.replicas}")
     if args.domain_var and not any(setting == "domain" for setting, *_ in args.ladder):
         raise StudyError(f"--domain-var {args.domain_var[0][0]}: there is no --ladder domain for it to apply to")
     tolerance = Tolerance.parse(args.tolerance) if args.tolerance is not None else None
@@ -517,7 +566,7 @@ def run(args: argparse.Namespace) -> int:
         study.run_point(p)
         failed |= p.state != "done"
         if p.state != "done" and p.setting == "reference":
-            print(f"[accuracy] the reference failed: see {p.run_dir / 'run.out'}", file=sys.stderr)
+            print(f"[accuracy] the reference failed: see its run.out under {p.run_dir}", file=sys.stderr)
             return 1
         study.analyse(points)   # outputs after every point: a study cut short still has its tables
         write_outputs(study, points, tolerance, args.tolerance_quantity)

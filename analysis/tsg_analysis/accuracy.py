@@ -20,6 +20,9 @@ Pure logic on run directories (cases/accuracy.py runs the ladders and writes the
 - `cheapest(points, quantity, tolerance)`: the cheapest point whose every scope meets the tolerance
   (simultaneous intervals over the quantity's scopes).
 - `run_cost(run_dir)`: loop wall time, ranks, steps, atoms and simulated time from log.lammps.
+- Replicas (runs of one setting that differ only in the fill seed): `replica_key_estimates` combines
+  their key quantities (uncertainty.combine_replicas: replica window means where each window is too
+  short for a time-series interval), `RunCost.of_replicas` adds up their cost.
 """
 from __future__ import annotations
 
@@ -37,7 +40,7 @@ from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_RECORDS, SO
 from .profiles import domain_throughput, element_estimates
 from .rtd import mean_residence
 from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, read_residence, read_zones
-from .uncertainty import Difference, Estimate, difference
+from .uncertainty import Difference, Estimate, combine_replicas, difference
 
 SPEED = "speed"
 KEY_UNITS = {MASS_FLOW: UNITS[MASS_FLOW], SOLID_FRACTION: UNITS[SOLID_FRACTION], AXIAL_VELOCITY: UNITS[AXIAL_VELOCITY],
@@ -94,6 +97,17 @@ def key_estimates(run_dir: Path | str, end: float | None = None, reference_zones
             found[(RESIDENCE_RECORDS, "total")] = mean_residence(records.residence_time[complete],
                                                                   records.exit_time[complete])
     return found
+
+
+def replica_key_estimates(run_dirs: Sequence[Path | str], ends: Sequence[float | None] | None = None,
+                          reference_zones: Zones | None = None) -> dict[Key, Estimate]:
+    """Key quantities of replicas of one setting combined key by key (keys every replica has); `ends`:
+    each replica's own end of record (the sampling ladder), or None."""
+    if not run_dirs:
+        raise AnalysisInputError("no finished replica")
+    ends = list(ends) if ends is not None else [None] * len(run_dirs)
+    each = [key_estimates(d, end, reference_zones) for d, end in zip(run_dirs, ends)]
+    return {key: combine_replicas([e[key] for e in each]) for key in each[0] if all(key in e for e in each)}
 
 
 def sampling_ends(run_dir: Path | str, fractions: Sequence[float]) -> list[float]:
@@ -309,6 +323,18 @@ class RunCost:
     end_time: np.ndarray  # s, simulated
     ranks: int
     atoms: int
+    runs: int = 1  # replicas whose loop times are summed chunk by chunk (of_replicas)
+
+    @classmethod
+    def of_replicas(cls, costs: Sequence[RunCost]) -> RunCost:
+        """The cost of replicas of one setting: their loop times added chunk by chunk; steps and
+        simulated times are one run's (the replicas run the same commands)."""
+        if len({len(c.loop_seconds) for c in costs}) != 1:
+            raise AnalysisInputError("replicas of one setting ran different numbers of chunks: not the same commands")
+        first = costs[0]
+        return cls(sum((c.loop_seconds for c in costs), np.zeros_like(first.loop_seconds)), first.steps,
+                   first.start_time, first.end_time, first.ranks, round(sum(c.atoms for c in costs) / len(costs)),
+                   sum(c.runs for c in costs))
 
     @property
     def wall_seconds(self) -> float:
@@ -324,7 +350,8 @@ class RunCost:
 
     @property
     def core_seconds_per_simulated_second(self) -> float:
-        return self.core_seconds / self.simulated_seconds if self.simulated_seconds > 0 else math.nan
+        """Per run (a rate of the setting, whatever the number of replicas)."""
+        return self.core_seconds / (self.runs * self.simulated_seconds) if self.simulated_seconds > 0 else math.nan
 
     @property
     def steps_per_simulated_second(self) -> float:
@@ -333,17 +360,17 @@ class RunCost:
 
     @property
     def particle_steps_per_second(self) -> float:
-        return self.atoms * float(self.steps.sum()) / self.wall_seconds if self.wall_seconds > 0 else math.nan
+        return self.runs * self.atoms * float(self.steps.sum()) / self.wall_seconds if self.wall_seconds > 0 else math.nan
 
     def until(self, end: float) -> RunCost:
         """The cost of the run up to simulated time `end` (a chunk cut by `end` counts in proportion)."""
         span = np.maximum(self.end_time - self.start_time, 1e-300)
         share = np.clip((end - self.start_time) / span, 0.0, 1.0)
         return RunCost(self.loop_seconds * share, np.round(self.steps * share), self.start_time,
-                       np.minimum(self.end_time, max(end, float(self.start_time[0]))), self.ranks, self.atoms)
+                       np.minimum(self.end_time, max(end, float(self.start_time[0]))), self.ranks, self.atoms, self.runs)
 
     def as_dict(self) -> dict:
-        return {"wall_seconds": self.wall_seconds, "ranks": self.ranks, "steps": int(self.steps.sum()),
+        return {"wall_seconds": self.wall_seconds, "runs": self.runs, "ranks": self.ranks, "steps": int(self.steps.sum()),
                 "atoms": self.atoms, "simulated_seconds": self.simulated_seconds, "core_seconds": self.core_seconds,
                 "core_seconds_per_simulated_second": self.core_seconds_per_simulated_second,
                 "steps_per_simulated_second": self.steps_per_simulated_second,

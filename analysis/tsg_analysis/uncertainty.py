@@ -281,8 +281,9 @@ def replica_means(estimates: Sequence[Estimate]) -> Estimate:
     else:
         error = float(means.std(ddof=1)) / math.sqrt(means.size)
     half_width = t_quantile(means.size - 1) * error if math.isfinite(error) else math.nan
-    return Estimate(float(means.mean()), error, int(means.size), float(means.size), half_width, *_flags(estimates),
-                    int(means.size), "replica means")
+    # samples: all the replicas' samples; independent samples: one per replica (the window means)
+    return Estimate(float(means.mean()), error, sum(e.samples for e in estimates), float(means.size), half_width,
+                    *_flags(estimates), int(means.size), "replica means")
 
 
 def replica_outlier(replicas: Sequence[float], value: float) -> tuple[float, float]:

@@ -2,6 +2,7 @@
 error and interval of a point, verdict against a tolerance, the cheapest setting, the cost read from
 a log, zones of another domain aligned on the reference's."""
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from tsg_analysis.accuracy import (
     TOO_SHORT,
     UNDECIDED,
     PointError,
+    RunCost,
     Tolerance,
     aligned_labels,
     cheapest,
@@ -20,6 +22,7 @@ from tsg_analysis.accuracy import (
     quantity_verdict,
     resolved_scopes,
     run_cost,
+    sampling_ends,
     verdict,
 )
 from tsg_analysis.run_files import Zones
@@ -218,3 +221,63 @@ def test_points_change_one_setting_and_carry_the_reference(tmp_path):
     assert carried["cohesion"] == "0" and carried["dt_fraction"] == "0.1" and carried["t_run"] == "0.05"
     assert "t_sample" not in carried and "t_startup" not in carried and "buffer" not in carried
 
+
+
+def test_cost_of_replicas_adds_their_loop_times(tmp_path):
+    for k, factor in enumerate((1, 2, 3)):
+        (tmp_path / f"r{k}").mkdir()
+        (tmp_path / f"r{k}" / "log.lammps").write_text(LOG.replace("Loop time of 10", f"Loop time of {10 * factor}"))
+    cost = RunCost.of_replicas([run_cost(tmp_path / f"r{k}") for k in range(3)])
+    assert cost.runs == 3 and cost.wall_seconds == pytest.approx(60 + 3 * 30)   # 10+20+30 and 3 x 30
+    assert cost.core_seconds == pytest.approx(2 * 150)
+    assert cost.core_seconds_per_simulated_second == pytest.approx(2 * 150 / (3 * 0.01))   # per run
+    assert cost.particle_steps_per_second == pytest.approx(3 * 500 * 4000 / 150)
+    assert cost.steps_per_simulated_second == pytest.approx(4000 / 0.01)
+    assert cost.until(0.0025).core_seconds == pytest.approx(2 * 60) and cost.until(0.0025).runs == 3
+
+
+def test_replicas_run_each_point_with_seeds_and_combine_their_windows(tmp_path):
+    """--replicas 3: every run point is three runs (seeds 1-3) in <point>/seed-K; the analysis
+    combines them by their window means; the sampling ladder truncates each reference replica."""
+    import json
+    import sys
+
+    from tsg_cases.accuracy import Study, parse
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
+    from make_fixture import write_run
+
+    study = tmp_path / "study"
+    args = parse([str(study), "--replicas", "3", "--ladder", "dt_fraction", "0.15", "--ladder", "sampling", "0.5"])
+    points = Study(args).points()
+    reference, dt_point, sampling = points
+    assert [d.relative_to(study).as_posix() for d in reference.run_dirs] == ["reference/seed-1", "reference/seed-2",
+                                                                             "reference/seed-3"]
+    assert [a[a.index("--seed") + 1] for a in dt_point.argvs] == ["1", "2", "3"]
+    assert sampling.run_dirs == reference.run_dirs and sampling.argvs == []
+    for number, (point, run_dir) in enumerate((p, d) for p in (reference, dt_point) for d in p.run_dirs):
+        write_run(run_dir, dumps=None, meshes=False, seed=200 + number)
+        steps, end = 1000 * np.arange(0, 41), sampling_ends(run_dir, [1.0])[0]   # the log spans the record
+        (run_dir / "log.lammps").write_text(
+            "    Step           Time    Atoms\n" + "".join(f"{s} {s * end / 40000:g} 500\n" for s in steps)
+            + "Loop time of 20 on 1 procs for 40000 steps with 500 atoms, finish time x\n")
+        argv = point.argvs[point.run_dirs.index(run_dir)]
+        (run_dir / "point.json").write_text(json.dumps({"argv": argv, "state": "done", "wall_seconds": 25.0}))
+    s = Study(args)
+    points = s.points()
+    for p in points:
+        if p.setting != "sampling":
+            p.state = s.state(p)
+    assert [p.state for p in points[:2]] == ["done", "done"] and points[0].wall_seconds == pytest.approx(75.0)
+    s.analyse(points)
+    assert points[0].cost is not None and points[0].cost.runs == 3 and points[0].cost.core_seconds == pytest.approx(60)
+    errors = {(e.quantity, e.scope): e for e in points[1].errors}
+    flux = errors[("mass flow", "domain flux Σ m v_x / L")]
+    assert flux.reference.replicas == 3 and flux.value.replicas == 3
+    # the sampling point: half of each replica's record, combined; its cost half the reference's
+    half = {(e.quantity, e.scope): e for e in points[2].errors}[("mass flow", "domain flux Σ m v_x / L")]
+    assert half.value.replicas == 3 and half.value.samples < flux.reference.samples
+    assert points[2].cost is not None and points[2].cost.core_seconds < points[0].cost.core_seconds
+    with pytest.raises(Exception, match="--seed 7 is not allowed with --replicas 3"):
+        from tsg_cases.accuracy import run
+        run(parse([str(study), "--replicas", "3", "--seed", "7"]))
