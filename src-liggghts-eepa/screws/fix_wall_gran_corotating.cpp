@@ -84,7 +84,6 @@ FixWallGranCorotating::FixWallGranCorotating(LAMMPS *lmp, int narg, char **arg)
   extensive_.assign(size_vector, 1);
   for (int s = 0; s < static_cast<int>(screws_.size()); ++s) extensive_[kOutputsPerScrew * s + 6] = 0;
   extlist = extensive_.data();
-  if (dump_every_ > 0) nevery = dump_every_;
   restart_global = 1;
   restart_peratom = 1;
   create_attribute = 1;
@@ -127,12 +126,7 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
     const std::string key = arg[iarg];
     if (key == "screw_dump") {
       if (iarg + 3 > narg) fail("screw_dump needs: N prefix");
-      char *end = nullptr;
-      const long n = strtol(arg[iarg + 1], &end, 10);
-      if (*end != '\0' || n < 0)
-        fail(std::string("screw_dump every = ") + arg[iarg + 1] + " is not allowed: an integer >= 0 (0: no dumps)");
-      dump_every_ = static_cast<int>(n);
-      dump_prefix_ = arg[iarg + 2];
+      set_screw_dump(arg[iarg + 1], arg[iarg + 2]);
       iarg += 3;
       continue;
     }
@@ -340,12 +334,37 @@ void FixWallGranCorotating::setup(int vflag)
 
 int FixWallGranCorotating::setmask()
 {
-  int mask = FixWallGran::setmask();
-  if (dump_every_ > 0) mask |= END_OF_STEP;
-  return mask;
+  // always: fix_modify screw_dump can switch the dumps on after the fix is made
+  return FixWallGran::setmask() | END_OF_STEP;
 }
 
-void FixWallGranCorotating::end_of_step() { write_screw_dumps(); }
+void FixWallGranCorotating::end_of_step()
+{
+  if (dump_every_ > 0 && update->ntimestep % dump_every_ == 0) write_screw_dumps();
+}
+
+// The interval and prefix of the screw dumps; nevery makes Modify call end_of_step only on dump
+// steps (1 when the dumps are off: end_of_step then returns at once).
+void FixWallGranCorotating::set_screw_dump(const char *every, const char *prefix)
+{
+  char *end = nullptr;
+  const long n = strtol(every, &end, 10);
+  if (*end != '\0' || n < 0 || n > MAXSMALLINT)
+    fail(std::string("screw_dump every = ") + every + " is not allowed: an integer >= 0 (0: no dumps)");
+  dump_every_ = static_cast<int>(n);
+  dump_prefix_ = prefix;
+  nevery = dump_every_ > 0 ? dump_every_ : 1;
+}
+
+// fix_modify ID screw_dump N prefix: e.g. one dump at the current step before a `run 0` (the
+// cases' snapshot.in). Takes effect at the next run's set-up.
+int FixWallGranCorotating::modify_param(int narg, char **arg)
+{
+  if (narg < 1 || strcmp(arg[0], "screw_dump") != 0) return 0;
+  if (narg < 3) fail("fix_modify screw_dump needs: N prefix");
+  set_screw_dump(arg[1], arg[2]);
+  return 3;
+}
 
 // Legacy VTK polydata of each screw in its pose at this step, written by rank 0 (every rank holds
 // the whole screw).

@@ -56,6 +56,7 @@ public:
   void pre_neighbor() override;
   void post_force(int vflag) override;
   void end_of_step() override;
+  int modify_param(int narg, char **arg) override;
   double compute_vector(int n) override;
 
   // Largest δ/R against a mesh since the previous call, and the atom ID that had it (0: none, on
@@ -115,6 +116,7 @@ private:
   void build_candidates(int i, const std::vector<tsg::rotation::Mat3> &poses);
   void follow_lists_to_new_indices(const std::vector<tsg::rotation::Mat3> &poses);
   void write_screw_dumps();
+  void set_screw_dump(const char *every, const char *prefix);
   void report_cost();
   double *handle_contact(int i, const Screw &screw, int tri, bool face, bool &accepted);
   void mark_all_contacts();
