@@ -73,7 +73,7 @@ PAPER_CLAIMS: list[Claim] = [
 @dataclass(frozen=True)
 class Verdict:
     claim: Claim
-    ours: str  # "+", "−", "not resolved", "mixed", "no data"
+    ours: str  # "+", "−", "not resolved", "mixed", "window too short", "no data"
     agrees: str  # "yes", "no", "not resolved", "partly"
     detail: str  # the differences, scope by scope
 
@@ -90,22 +90,28 @@ def directions(rows: Sequence, claims: Sequence[Claim] = PAPER_CLAIMS) -> list[V
         if not found:
             verdicts.append(Verdict(claim, "no data", "not resolved", "variant not run"))
             continue
-        signs = [(_sign(r.difference.value) if r.difference.significant else "·") for r in found]
-        detail = ", ".join(f"{r.scope} {r.difference.relative:+.0%}{'' if r.difference.significant else ' (n.s.)'}"
-                           for r in found)
-        resolved = {s for s in signs if s != "·"}
-        if not resolved:
+        signs = [("?" if not r.difference.inputs_resolved else _sign(r.difference.value) if r.difference.significant
+                  else "·") for r in found]
+        detail = ", ".join(f"{r.scope} {r.difference.relative:+.0%}" + (
+            "" if r.difference.significant else " (n.s.)" if r.difference.inputs_resolved else " (too short)")
+            for r in found)
+        resolved = {s for s in signs if s in ("+", "−")}
+        if all(s == "?" for s in signs):
+            ours = "window too short"
+        elif not resolved:
             ours = "not resolved"
         elif len(resolved) == 2:
             ours = "mixed"
         else:
             ours = resolved.pop()
         expected = {1: "+", -1: "−", 0: None}[claim.direction]
-        if claim.direction == 0:
-            agrees = "yes" if ours == "not resolved" else "no"
+        if ours == "window too short":
+            agrees = "not resolved"
+        elif claim.direction == 0:
+            agrees = ("yes" if "?" not in signs else "partly") if ours == "not resolved" else "no"
         elif ours == expected:
-            agrees = "yes" if "·" not in signs else "partly"
-        elif ours in ("not resolved",):
+            agrees = "yes" if all(s == expected for s in signs) else "partly"
+        elif ours == "not resolved":
             agrees = "not resolved"
         else:
             agrees = "no" if ours != "mixed" else "partly"
@@ -115,7 +121,8 @@ def directions(rows: Sequence, claims: Sequence[Claim] = PAPER_CLAIMS) -> list[V
 
 def directions_markdown(verdicts: Sequence[Verdict]) -> str:
     arrow = {1: "+", -1: "−", 0: "no change"}
-    lines = ["| variant | quantity | paper | ours | agrees | our differences (relative; n.s. = not significant) | paper's words |",
+    lines = ["| variant | quantity | paper | ours | agrees | our differences (relative; n.s.: not significant; too short: "
+             "too few replicas or independent samples) | paper's words |",
              "|---|---|---|---|---|---|---|"]
     for v in verdicts:
         lines.append(f"| {v.claim.variant} | {v.claim.label} | {arrow[v.claim.direction]} | {v.ours} | {v.agrees} | "

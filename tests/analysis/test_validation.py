@@ -87,6 +87,12 @@ def test_sweep_with_replicas_reports_differences_and_directions(tmp_path):
     assert "| static-friction-0.1 | axial velocity kneading | + | + | yes |" in proc.stdout
     assert "| static-friction-0.1 | solid fraction kneading | − | − | yes |" in proc.stdout
     # two replicas of an unchanged setting: no number, so no direction
-    assert "| cohesion-high | mass flow domain flux Σ m v_x / L | − | not resolved | not resolved |" in proc.stdout
+    assert "| cohesion-high | mass flow domain flux Σ m v_x / L | − | window too short | not resolved |" in proc.stdout
     for name in ("comparison.md", "comparison.csv", "directions.md", "mass-flow.png"):
         assert (tmp_path / "report" / name).stat().st_size > 0
+
+
+def test_a_setting_without_enough_replicas_neither_agrees_nor_disagrees():
+    short = ComparisonRow("restitution-0.1", MASS_FLOW, DOMAIN_FLUX, UNUSED, UNUSED, Difference(0.1, 1.0, 0.01, False))
+    (v,) = [v for v in directions([short]) if v.claim.variant == "restitution-0.1"]
+    assert (v.ours, v.agrees) == ("window too short", "not resolved") and "(too short)" in v.detail
