@@ -314,27 +314,29 @@ LOOP = re.compile(r"^Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps wi
 
 @dataclass(frozen=True)
 class RunCost:
-    """Per chunk of the run (LIGGGHTS prints a 'Loop time' line for every `run` command and every
-    chunk of `run N every M`): loop wall time, steps and the simulated time it covered."""
+    """Per chunk of one run or of several (LIGGGHTS prints a 'Loop time' line for every `run` command
+    and every chunk of `run N every M`): loop wall time, steps, particles and the simulated time it
+    covered. Replicas (of_replicas) are their chunks together: they differ in their time step (the
+    smallest particle of each fill), so in their steps and chunks, not in their simulated time."""
 
     loop_seconds: np.ndarray
     steps: np.ndarray
     start_time: np.ndarray  # s, simulated
     end_time: np.ndarray  # s, simulated
     ranks: int
-    atoms: int
-    runs: int = 1  # replicas whose loop times are summed chunk by chunk (of_replicas)
+    atoms: np.ndarray  # particles in each chunk
+    runs: int = 1
 
     @classmethod
     def of_replicas(cls, costs: Sequence[RunCost]) -> RunCost:
-        """The cost of replicas of one setting: their loop times added chunk by chunk; steps and
-        simulated times are one run's (the replicas run the same commands)."""
-        if len({len(c.loop_seconds) for c in costs}) != 1:
-            raise AnalysisInputError("replicas of one setting ran different numbers of chunks: not the same commands")
-        first = costs[0]
-        return cls(sum((c.loop_seconds for c in costs), np.zeros_like(first.loop_seconds)), first.steps,
-                   first.start_time, first.end_time, first.ranks, round(sum(c.atoms for c in costs) / len(costs)),
-                   sum(c.runs for c in costs))
+        """The cost of replicas of one setting: all their chunks."""
+        if len({c.ranks for c in costs}) != 1:
+            raise AnalysisInputError("replicas of one setting ran on different numbers of ranks")
+        def joined(name: str) -> np.ndarray:
+            return np.concatenate([getattr(c, name) for c in costs])
+
+        return cls(joined("loop_seconds"), joined("steps"), joined("start_time"), joined("end_time"), costs[0].ranks,
+                   joined("atoms"), sum(c.runs for c in costs))
 
     @property
     def wall_seconds(self) -> float:
@@ -346,7 +348,8 @@ class RunCost:
 
     @property
     def simulated_seconds(self) -> float:
-        return float(self.end_time[-1] - self.start_time[0])
+        """Of one run (the mean over replicas): the chunks of a run follow each other."""
+        return float((self.end_time - self.start_time).sum()) / self.runs
 
     @property
     def core_seconds_per_simulated_second(self) -> float:
@@ -356,22 +359,27 @@ class RunCost:
     @property
     def steps_per_simulated_second(self) -> float:
         """1/dt: exact, whatever the machine's load (the wall-clock measures are not)."""
-        return float(self.steps.sum()) / self.simulated_seconds if self.simulated_seconds > 0 else math.nan
+        return float(self.steps.sum()) / (self.runs * self.simulated_seconds) if self.simulated_seconds > 0 else math.nan
 
     @property
     def particle_steps_per_second(self) -> float:
-        return self.runs * self.atoms * float(self.steps.sum()) / self.wall_seconds if self.wall_seconds > 0 else math.nan
+        return float(self.atoms @ self.steps) / self.wall_seconds if self.wall_seconds > 0 else math.nan
+
+    @property
+    def mean_atoms(self) -> int:
+        return round(float(self.atoms.mean()))
 
     def until(self, end: float) -> RunCost:
-        """The cost of the run up to simulated time `end` (a chunk cut by `end` counts in proportion)."""
+        """The cost up to simulated time `end` in each run (a chunk cut by `end` counts in proportion)."""
         span = np.maximum(self.end_time - self.start_time, 1e-300)
-        share = np.clip((end - self.start_time) / span, 0.0, 1.0)
-        return RunCost(self.loop_seconds * share, np.round(self.steps * share), self.start_time,
-                       np.minimum(self.end_time, max(end, float(self.start_time[0]))), self.ranks, self.atoms, self.runs)
+        cut = np.clip(end, self.start_time, self.end_time)
+        share = (cut - self.start_time) / span
+        return RunCost(self.loop_seconds * share, np.round(self.steps * share), self.start_time, cut, self.ranks,
+                       self.atoms, self.runs)
 
     def as_dict(self) -> dict:
         return {"wall_seconds": self.wall_seconds, "runs": self.runs, "ranks": self.ranks, "steps": int(self.steps.sum()),
-                "atoms": self.atoms, "simulated_seconds": self.simulated_seconds, "core_seconds": self.core_seconds,
+                "atoms": self.mean_atoms, "simulated_seconds": self.simulated_seconds, "core_seconds": self.core_seconds,
                 "core_seconds_per_simulated_second": self.core_seconds_per_simulated_second,
                 "steps_per_simulated_second": self.steps_per_simulated_second,
                 "particle_steps_per_second": self.particle_steps_per_second}
@@ -390,4 +398,4 @@ def run_cost(run_dir: Path | str) -> RunCost:
                                  "a Time column: the run did not finish, or its thermo has no time")
     return RunCost(np.array([float(w) for w, *_ in loops]), np.array([int(s) for _, _, s, _ in loops]),
                    np.array([float(b["Time"][0]) for b in blocks]), np.array([float(b["Time"][-1]) for b in blocks]),
-                   int(loops[-1][1]), int(loops[-1][3]))
+                   int(loops[-1][1]), np.array([int(a) for *_, a in loops]))
