@@ -452,12 +452,17 @@ def markdown(study: Study, points: list[Point], quantities: list[str], controls_
         cells = [cell(p.errors, q) if p.setting != "reference" else "(reference)" for q in quantities]
         lines.append("| " + " | ".join([p.label, state, *costs, *cells]) + " |")
     lines.append("")
-    control_points = [p for p in points if p.setting in CONTROLS]
-    if control_points:
-        lines.append("Controls (must come out not resolved): " + (
-            "**resolved differences: " + "; ".join(controls_resolved) + "** (the error estimate is not trustworthy)"
-            if controls_resolved else f"{', '.join(p.label for p in control_points)}: no difference resolved."))
-        lines.append("")
+    control_points = [p for p in points if p.setting in CONTROLS and p.errors]
+    waiting = [p.label for p in points if p.setting in CONTROLS and not p.errors]
+    parts = []
+    if controls_resolved:
+        parts.append("**resolved differences: " + "; ".join(controls_resolved) + "** (the error estimate is not trustworthy)")
+    elif control_points:
+        parts.append(f"{', '.join(p.label for p in control_points)}: no difference resolved")
+    if waiting:
+        parts.append(f"not analysed: {', '.join(waiting)} (not finished)")
+    if parts:
+        lines += ["Controls (must come out not resolved): " + "; ".join(parts) + ".", ""]
     if tolerance is not None and choice is not None:
         lines += [f"Tolerance {tolerance.text()} on {tolerance_quantity}, every scope, the upper end of the 95 % "
                   f"interval of the error: cheapest point **{choice.message}**.", ""]
