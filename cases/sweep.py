@@ -19,8 +19,9 @@ holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once
 marker: RUNNING (with the process id), DONE or FAILED (with the exit status). `report` compares each
 setting's finished runs with the reference's (tsg_analysis.summary.compare_runs: replicas combined,
 difference ± 95 % interval, significant or not) and sets the seed paper's directions and mass flows
-beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, mass-flow.png. The runner's output,
-with its progress line every ~10 s (cases/progress.py), goes to the terminal and to run.out.
+beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, mass-flow.png and
+elements.png (per-element panels). The runner's output, with its progress line every ~10 s
+(cases/progress.py), goes to the terminal and to run.out.
 """
 from __future__ import annotations
 
@@ -184,8 +185,8 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     return 1 if failures else 0
 
 def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
-    from tsg_analysis.figures import plot_paper_mass_flow
-    from tsg_analysis.model import DOMAIN_FLUX, MASS_FLOW
+    from tsg_analysis.figures import plot_element_panels, plot_paper_mass_flow
+    from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
     from tsg_analysis.summary import compare_runs, sweep_markdown, write_sweep_csv
     from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown
 
@@ -211,7 +212,8 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
     flux = {r.variant: r.difference for r in rows if r.quantity == MASS_FLOW and r.scope == DOMAIN_FLUX}
     plot_paper_mass_flow(out / "mass-flow.png", [(name, flux.get(name), PAPER_MASS_FLOW.get(name)) for name in variants],
                          PAPER_MASS_FLOW["reference"])
-    print(header + table + f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, mass-flow.png")
+    plot_element_panels(out / "elements.png", rows, [SOLID_FRACTION, AXIAL_VELOCITY])
+    print(header + table + f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, mass-flow.png, elements.png")
     return 0
 
 

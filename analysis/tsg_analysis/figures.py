@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
@@ -243,4 +244,34 @@ def plot_paper_mass_flow(path: Path, rows: list[tuple[str, Difference | None, tu
     ax.set_ylabel("mass flow relative to the reference")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def plot_element_panels(path: Path, rows: Sequence, quantities: Sequence[str]) -> Path:
+    """Per-element values of each setting of a sweep (analogues of the seed paper's Figs. 13–16):
+    one panel per quantity, one line per setting, bars: 95 % intervals (hollow: not resolved).
+    `rows`: summary.ComparisonRow (each holds the reference's and the variant's estimate)."""
+    element_rows = [r for r in rows if r.quantity in quantities and r.scope[:1] in ("C", "K") and r.scope[1:].isdigit()]
+    if not element_rows:
+        return _nothing_to_plot(path, "no per-element comparison")
+    scopes = list(dict.fromkeys(r.scope for r in element_rows))
+    settings = ["reference", *dict.fromkeys(r.variant for r in element_rows)]
+    fig, axes = plt.subplots(1, len(quantities), figsize=(5.5 * len(quantities), 4.2), squeeze=False)
+    for ax, quantity in zip(axes[0], quantities):
+        mine = [r for r in element_rows if r.quantity == quantity]
+        for k, setting in enumerate(settings):
+            estimates = {r.scope: (r.reference if setting == "reference" else r.value) for r in mine
+                         if setting == "reference" or r.variant == setting}
+            xs = [i + (k - (len(settings) - 1) / 2) * 0.06 for i, s in enumerate(scopes) if s in estimates]
+            values = [estimates[s] for s in scopes if s in estimates]
+            if not values:
+                continue
+            ax.errorbar(xs, [e.mean for e in values], yerr=[e.half_width if math.isfinite(e.half_width) else 0 for e in values],
+                        fmt="-o", ms=4, capsize=2, label=setting, lw=1.2 if setting == "reference" else 0.8,
+                        mfc="none" if not all(e.resolved for e in values) else None)
+        ax.set_xticks(range(len(scopes)), scopes)
+        ax.set_title(quantity)
+        ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=7)
+    fig.tight_layout()
     return _save(fig, path)

@@ -88,7 +88,7 @@ def test_sweep_with_replicas_reports_differences_and_directions(tmp_path):
     assert "| static-friction-0.1 | solid fraction kneading | − | − | yes |" in proc.stdout
     # two replicas of an unchanged setting: no number, so no direction
     assert "| cohesion-high | mass flow domain flux Σ m v_x / L | − | window too short | not resolved |" in proc.stdout
-    for name in ("comparison.md", "comparison.csv", "directions.md", "mass-flow.png"):
+    for name in ("comparison.md", "comparison.csv", "directions.md", "mass-flow.png", "elements.png"):
         assert (tmp_path / "report" / name).stat().st_size > 0
 
 
