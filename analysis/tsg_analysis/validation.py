@@ -40,8 +40,8 @@ class Claim:
 
     @property
     def label(self) -> str:
-        scope = "conveying" if self.scopes == CONVEYING else "kneading" if self.scopes == KNEADING else \
-            "K1–K2" if self.scopes == FIRST_KNEADING else ", ".join(self.scopes)
+        names = {CONVEYING: "conveying", KNEADING: "kneading", FIRST_KNEADING: "K1–K2", CONVEYING + KNEADING: "all elements"}
+        scope = names.get(self.scopes, ", ".join(self.scopes))
         return f"{self.quantity} {scope}"
 
 
