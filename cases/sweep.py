@@ -19,8 +19,8 @@ holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once
 marker: RUNNING (with the process id), DONE or FAILED (with the exit status). `report` compares each
 setting's finished runs with the reference's (tsg_analysis.summary.compare_runs: replicas combined,
 difference ± 95 % interval, significant or not) and sets the seed paper's directions and mass flows
-beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, mass-flow.png and
-elements.png (per-element panels). The runner's output, with its progress line every ~10 s
+beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, halves.md (the flux in each half of
+the window), mass-flow.png and elements.png (per-element panels). The runner's output, with its progress line every ~10 s
 (cases/progress.py), goes to the terminal and to run.out.
 """
 from __future__ import annotations
@@ -188,7 +188,7 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
     from tsg_analysis.figures import plot_element_panels, plot_paper_mass_flow
     from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
     from tsg_analysis.summary import compare_runs, sweep_markdown, write_sweep_csv
-    from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown
+    from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown, flux_halves, halves_markdown
 
     settings: dict[str, list[Path]] = {}
     for name, run_dir in dirs.items():
@@ -213,7 +213,12 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
     plot_paper_mass_flow(out / "mass-flow.png", [(name, flux.get(name), PAPER_MASS_FLOW.get(name)) for name in variants],
                          PAPER_MASS_FLOW["reference"])
     plot_element_panels(out / "elements.png", rows, [SOLID_FRACTION, AXIAL_VELOCITY])
-    print(header + table + f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, mass-flow.png, elements.png")
+    halves = {name: flux_halves(runs) for name, runs in settings.items() if runs}
+    (out / "halves.md").write_text(header + "Domain flux in the first and the second half of the sampling window "
+                                   "(replica window means ± 95 %): does a difference persist as the start-up fades?\n\n"
+                                   + halves_markdown(halves))
+    print(header + table + "\n" + halves_markdown(halves) +
+          f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, halves.md, mass-flow.png, elements.png")
     return 0
 
 

@@ -8,10 +8,15 @@ difference from the reference: +1 higher, −1 lower, 0 "almost no change" (the 
 """
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
+from .accuracy import key_estimates, sampling_ends
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+from .run_files import AnalysisInputError
+from .uncertainty import Estimate, replica_means
 
 # Section 4: mass flow (kg/h) at MFS_1/MFS_2 of the periodic system; the reference is the full
 # granulator's 14.4 kg/h, reproduced as 14.4–14.6 by the periodic reference.
@@ -127,4 +132,42 @@ def directions_markdown(verdicts: Sequence[Verdict]) -> str:
     for v in verdicts:
         lines.append(f"| {v.claim.variant} | {v.claim.label} | {arrow[v.claim.direction]} | {v.ours} | {v.agrees} | "
                      f"{v.detail} | {v.claim.source} |")
+    return "\n".join(lines) + "\n"
+
+
+def flux_halves(run_dirs: Sequence[Path]) -> tuple[Estimate, Estimate]:
+    """The domain flux Σ m v_x / L over the first and the second half of each run's sampling window,
+    each combined over the replicas (window means): whether a difference from the reference persists
+    or fades as the start-up transient does."""
+    firsts, seconds = [], []
+    for run_dir in run_dirs:
+        (end,) = sampling_ends(run_dir, [0.5])
+        full = key_estimates(run_dir)[(MASS_FLOW, DOMAIN_FLUX)]
+        first = key_estimates(run_dir, end)[(MASS_FLOW, DOMAIN_FLUX)]
+        rest = full.samples - first.samples
+        if rest < 1:
+            raise AnalysisInputError(f"{run_dir}: too short a window to split in halves")
+        second_mean = (full.mean * full.samples - first.mean * first.samples) / rest
+        firsts.append(first.mean)
+        seconds.append(second_mean)
+    return replica_means([_point(m) for m in firsts]), replica_means([_point(m) for m in seconds])
+
+
+def _point(mean: float) -> Estimate:
+    return Estimate(mean, math.nan, 1, 1.0, math.nan)
+
+
+def halves_markdown(halves: dict[str, tuple[Estimate, Estimate]]) -> str:
+    """Per setting: the flux in each half of the window (replica means ± 95 %) and its change from
+    the reference's in the same half."""
+    lines = ["| setting | flux, first half (kg/h) | vs reference | flux, second half (kg/h) | vs reference |",
+             "|---|---|---|---|---|"]
+    reference = halves.get("reference")
+    for name, (first, second) in halves.items():
+        cells = []
+        for k, value in enumerate((first, second)):
+            change = "" if reference is None or name == "reference" else \
+                f"{value.mean / reference[k].mean - 1:+.0%}"
+            cells += [value.text(), change]
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"

@@ -1,5 +1,7 @@
 """The seed paper's sensitivity claims and our directions beside them: a direction counts only when
 its difference is significant; 'almost no change' agrees only with a difference that is not."""
+import re
+
 import numpy as np
 from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
 from tsg_analysis.summary import ComparisonRow
@@ -88,7 +90,11 @@ def test_sweep_with_replicas_reports_differences_and_directions(tmp_path):
     assert "| static-friction-0.1 | solid fraction kneading | − | − | yes |" in proc.stdout
     # two replicas of an unchanged setting: no number, so no direction
     assert "| cohesion-high | mass flow domain flux Σ m v_x / L | − | window too short | not resolved |" in proc.stdout
-    for name in ("comparison.md", "comparison.csv", "directions.md", "mass-flow.png", "elements.png"):
+    # the flux in each half of the window: static friction's +50 % holds in both halves (the scaled
+    # axial velocity is in every sample)
+    halves = (tmp_path / "report" / "halves.md").read_text()
+    assert re.search(r"\| static-friction-0.1 \| [^|]+ \| \+(4[5-9]|5[0-5])% \| [^|]+ \| \+(4[5-9]|5[0-5])% \|", halves), halves
+    for name in ("comparison.md", "comparison.csv", "directions.md", "halves.md", "mass-flow.png", "elements.png"):
         assert (tmp_path / "report" / name).stat().st_size > 0
 
 
