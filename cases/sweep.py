@@ -202,7 +202,9 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
     out.mkdir(parents=True, exist_ok=True)
     counts = ", ".join(f"{name} {len(runs)}/{sum(1 for n in dirs if n.split('/')[0] == name)}"
                        for name, runs in settings.items())
-    header = f"Sweep {sweep}: finished runs per setting (replicas combined): {counts}.\n\n"
+    failed = [f"{name} ({state(d)})" for name, d in dirs.items() if state(d).startswith("failed")]
+    header = f"Sweep {sweep}: finished runs per setting (replicas combined): {counts}." + (
+        f" Failed, left out: {', '.join(failed)}." if failed else "") + "\n\n"
     (out / "comparison.md").write_text(header + sweep_markdown(rows))
     write_sweep_csv(rows, out / "comparison.csv")
     verdicts = directions(rows)
