@@ -3,7 +3,7 @@
     tsg-sweep write SWEEP_DIR [--scale paper|demo] [--np N] [--replicas R] [--only NAME ...] [-v name value ...]
     tsg-sweep run SWEEP_DIR [--only NAME ...]      # locally, one after the other
     tsg-sweep status SWEEP_DIR
-    tsg-sweep report SWEEP_DIR [--out DIR]                     # differences ± 95 % and the paper's directions
+    tsg-sweep report SWEEP_DIR [--out DIR] [--start T|auto] [--parts K]   # differences ± 95 %, the paper's directions
     sbatch SWEEP_DIR/sweep.slurm                               # on a cluster: one array task per run
 
 The matrix (periodic case): the Table 3 reference; Table 4's univariate variations (restitution
@@ -19,14 +19,18 @@ holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once
 marker: RUNNING (with the process id), DONE or FAILED (with the exit status). `report` compares each
 setting's finished runs with the reference's (tsg_analysis.summary.compare_runs: replicas combined,
 difference ± 95 % interval, significant or not) and sets the seed paper's directions and mass flows
-beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, halves.md (the flux in each half of
-the window), mass-flow.png and elements.png (per-element panels). The runner's output, with its progress line every ~10 s
+beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, parts.md (the flux in each of K
+consecutive parts of the window, default 2), mass-flow.png and elements.png (per-element panels). By default every
+run is averaged over its whole sampling record; --start T from T s on, --start auto from the steady state detected
+in the runs: the latest over the finished runs of the start of stationarity of the domain flux (pymbar's
+equilibration detection, tsg_analysis.uncertainty.detect_start), one window for all. The runner's output, with its progress line every ~10 s
 (cases/progress.py), goes to the terminal and to run.out.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import shlex
 import subprocess
@@ -138,6 +142,9 @@ def main(argv: list[str] | None = None) -> int:
     rep = sub.add_parser("report")
     rep.add_argument("sweep", type=Path)
     rep.add_argument("--out", type=Path, default=None, help="default SWEEP_DIR/report")
+    rep.add_argument("--start", default=None, help="analyse every run from this time on, s, or 'auto' (the latest "
+                                                   "detected start of stationarity); default: the whole record")
+    rep.add_argument("--parts", type=int, default=2, help="parts of the window in parts.md (default 2)")
     parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
     args = parser.parse_args(argv)
     try:
@@ -159,7 +166,9 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
         return 0
     dirs = {str(d.relative_to(args.sweep)): d for d in run_dirs(args.sweep)}
     if args.command == "report":
-        return report(args.sweep, dirs, args.out or args.sweep / "report")
+        if args.parts < 1:
+            raise ParameterError(f"--parts {args.parts} is not allowed: number of parts of the window, >= 1")
+        return report(args.sweep, dirs, args.out or args.sweep / "report", window_start(args.start), args.parts)
     if args.command == "status":
         states = {name: state(d) for name, d in dirs.items()}
         for name, text in states.items():
@@ -184,11 +193,42 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
         failures += status != 0
     return 1 if failures else 0
 
-def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
+def window_start(text: str | None) -> float | str | None:
+    """--start: None (the whole record), 'auto', or a time in s >= 0."""
+    if text is None or text == "auto":
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not value >= 0.0:
+        raise ParameterError(f"--start {text} is not allowed: a time in s >= 0, or 'auto'")
+    return value
+
+
+def detected_steady_start(runs: list[Path]) -> tuple[float, str]:
+    """The latest start of stationarity of the domain flux over the runs, and a line naming each."""
+    from tsg_analysis.model import DOMAIN_FLUX, MASS_FLOW
+    from tsg_analysis.summary import summarise
+
+    found = {}
+    for run_dir in runs:
+        flux = summarise(run_dir).get(MASS_FLOW, DOMAIN_FLUX)
+        if flux is None or flux.detected_start is None:
+            raise ParameterError(f"--start auto: {run_dir} has too short a domain-flux record to detect a steady state "
+                                 "(fewer than 10 element blocks); give --start T")
+        found[run_dir] = flux.detected_start
+    latest = max(found.values())
+    names = ", ".join(f"{d.parent.name}/{d.name} {t:.3g}" for d, t in found.items())
+    return latest, f"stationary from (s, domain flux, pymbar): {names}"
+
+
+def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | None = None, parts: int = 2) -> int:
     from tsg_analysis.figures import plot_element_panels, plot_paper_mass_flow
     from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+    from tsg_analysis.run_files import AnalysisInputError
     from tsg_analysis.summary import compare_runs, sweep_markdown, write_sweep_csv
-    from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown, flux_halves, halves_markdown
+    from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown, flux_parts, parts_markdown
 
     settings: dict[str, list[Path]] = {}
     for name, run_dir in dirs.items():
@@ -198,13 +238,24 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
     if not settings.get("reference"):
         raise ParameterError(f"{sweep}: the reference has no finished run yet (tsg-sweep status {sweep})")
     variants = {name: runs for name, runs in settings.items() if name != "reference" and runs}
-    rows = compare_runs(settings["reference"], variants)
+    window, detection, begin = "the whole sampling record of every run", "", None
+    if start == "auto":
+        begin, detection = detected_steady_start([d for runs in settings.values() for d in runs])
+        window = f"every run from t = {begin:.4g} s, the latest detected steady start"
+    elif isinstance(start, float):
+        begin, window = start, f"every run from t = {start:.4g} s"
+    try:
+        rows = compare_runs(settings["reference"], variants, begin)
+        flux_by_part = {name: flux_parts(runs, parts, begin) for name, runs in settings.items() if runs}
+    except AnalysisInputError as problem:
+        raise ParameterError(f"--start {start}: {problem}") from None
     out.mkdir(parents=True, exist_ok=True)
     counts = ", ".join(f"{name} {len(runs)}/{sum(1 for n in dirs if n.split('/')[0] == name)}"
                        for name, runs in settings.items())
     failed = [f"{name} ({state(d)})" for name, d in dirs.items() if state(d).startswith("failed")]
     header = f"Sweep {sweep}: finished runs per setting (replicas combined): {counts}." + (
-        f" Failed, left out: {', '.join(failed)}." if failed else "") + "\n\n"
+        f" Failed, left out: {', '.join(failed)}." if failed else "") + f" Window: {window}." + (
+        f" {detection}." if detection else "") + "\n\n"
     (out / "comparison.md").write_text(header + sweep_markdown(rows))
     write_sweep_csv(rows, out / "comparison.csv")
     verdicts = directions(rows)
@@ -215,12 +266,11 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path) -> int:
     plot_paper_mass_flow(out / "mass-flow.png", [(name, flux.get(name), PAPER_MASS_FLOW.get(name)) for name in variants],
                          PAPER_MASS_FLOW["reference"])
     plot_element_panels(out / "elements.png", rows, [SOLID_FRACTION, AXIAL_VELOCITY])
-    halves = {name: flux_halves(runs) for name, runs in settings.items() if runs}
-    (out / "halves.md").write_text(header + "Domain flux in the first and the second half of the sampling window "
-                                   "(replica window means ± 95 %): does a difference persist as the start-up fades?\n\n"
-                                   + halves_markdown(halves))
-    print(header + table + "\n" + halves_markdown(halves) +
-          f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, halves.md, mass-flow.png, elements.png")
+    (out / "parts.md").write_text(header + f"Domain flux in {parts} consecutive equal parts of the window (replica "
+                                  "window means ± 95 %): does a difference persist as the start-up fades, and has "
+                                  "the flux stopped drifting?\n\n" + parts_markdown(flux_by_part))
+    print(header + table + "\n" + parts_markdown(flux_by_part) +
+          f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, parts.md, mass-flow.png, elements.png")
     return 0
 
 

@@ -65,21 +65,23 @@ def aligned_labels(zones: Zones, reference: Zones) -> list[str | None]:
     return labels
 
 
-def key_estimates(run_dir: Path | str, end: float | None = None, reference_zones: Zones | None = None) -> dict[Key, Estimate]:
-    """Key quantities of a run over its sampling record (up to `end` s when given), keyed by
-    (quantity, scope); element scopes are labelled in `reference_zones`' numbering when given."""
+def key_estimates(run_dir: Path | str, end: float | None = None, reference_zones: Zones | None = None,
+                  start: float | None = None) -> dict[Key, Estimate]:
+    """Key quantities of a run over its sampling record: the element blocks that begin at or after
+    `start` s and end by `end` s (each bound when given), the residence records that end inside;
+    keyed by (quantity, scope); element scopes are labelled in `reference_zones`' numbering when given."""
     run_dir = Path(run_dir)
     zones = read_zones(run_dir / "zones.txt")
     labels = aligned_labels(zones, reference_zones) if reference_zones is not None else list(zones.labels)
     stats = read_element_statistics(run_dir / "elements.txt")
-    flows = read_massflow(run_dir / "massflow.txt")
-    clock = step_clock(flows)
-    if clock is None:
-        raise AnalysisInputError(f"{run_dir / 'massflow.txt'}: fewer than 2 rows, no time axis")
-    times = clock.time(stats.timesteps)
-    inside = times <= end + 1e-12 if end is not None else np.ones(len(times), bool)
+    begins, times = block_times(run_dir)
+    inside = np.ones(len(times), bool)
+    if end is not None:
+        inside &= times <= end + 1e-12
+    if start is not None:
+        inside &= begins >= start - 1e-12
     if inside.sum() < 2:
-        raise AnalysisInputError(f"{run_dir / 'elements.txt'}: fewer than 2 blocks up to {end} s")
+        raise AnalysisInputError(f"{run_dir / 'elements.txt'}: fewer than 2 blocks between {start} s and {end} s")
     stats = type(stats)(stats.timesteps[inside], stats.values[inside])
     times = times[inside]
     by_zone, used = element_estimates(stats, zones, None, times)
@@ -93,6 +95,8 @@ def key_estimates(run_dir: Path | str, end: float | None = None, reference_zones
         complete = np.isin(records.exit_reason, RTD_EXIT_REASONS)
         if end is not None:
             complete &= records.exit_time <= end + 1e-12
+        if start is not None:
+            complete &= records.exit_time > start
         if complete.sum() >= 2:
             found[(RESIDENCE_RECORDS, "total")] = mean_residence(records.residence_time[complete],
                                                                   records.exit_time[complete])
@@ -110,17 +114,23 @@ def replica_key_estimates(run_dirs: Sequence[Path | str], ends: Sequence[float |
     return {key: combine_replicas([e[key] for e in each]) for key in each[0] if all(key in e for e in each)}
 
 
-def sampling_ends(run_dir: Path | str, fractions: Sequence[float]) -> list[float]:
-    """End times (s) of the first `fractions` of a run's sampling record (elements.txt blocks)."""
+def block_times(run_dir: Path | str) -> tuple[np.ndarray, np.ndarray]:
+    """Begin and end times (s) of each element-statistics block of a run (elements.txt); a block
+    averages the interval before its time step."""
     run_dir = Path(run_dir)
     stats = read_element_statistics(run_dir / "elements.txt")
     clock = step_clock(read_massflow(run_dir / "massflow.txt"))
     if clock is None or len(stats.timesteps) < 2:
-        raise AnalysisInputError(f"{run_dir}: too short a sampling record to truncate")
-    times = clock.time(stats.timesteps)
-    interval = float(np.median(np.diff(times)))
-    start = float(times[0]) - interval  # the first block averages the interval before it
-    return [start + f * (float(times[-1]) - start) for f in fractions]
+        raise AnalysisInputError(f"{run_dir}: too short a sampling record to cut")
+    ends = clock.time(stats.timesteps)
+    interval = float(np.median(np.diff(ends)))
+    return ends - interval, ends
+
+
+def sampling_ends(run_dir: Path | str, fractions: Sequence[float]) -> list[float]:
+    """End times (s) of the first `fractions` of a run's sampling record (elements.txt blocks)."""
+    begins, ends = block_times(run_dir)
+    return [float(begins[0]) + f * (float(ends[-1]) - float(begins[0])) for f in fractions]
 
 
 # ---- the error of a point and its verdict --------------------------------------------------------

@@ -2,7 +2,8 @@
 95 % confidence interval.
 
 `summarise(run_dir)` averages over the whole sampling record the run wrote (the case inputs start
-their outputs after the start-up) and reports the detected start of stationarity beside it.
+their outputs after the start-up), or over its part from `start` s on (a steady window chosen after
+the run), and reports the detected start of stationarity beside it.
 `summary_table(run_dir)` is the text the runner prints. `compare_runs(reference, variants)` gives,
 for each variant (one or several replica run directories), the difference of every quantity against
 the reference with its interval, marked significant or not; `sweep_markdown` / `write_sweep_csv`
@@ -57,8 +58,10 @@ def _part(summary: RunSummary, quantity: str, action: Callable[[], None]) -> Non
         summary.not_available.append((quantity, str(problem)))
 
 
-def summarise(run_dir: Path | str) -> RunSummary:
-    """Every quantity of the run's summary ± 95 % interval, over the whole sampling record."""
+def summarise(run_dir: Path | str, start: float | None = None) -> RunSummary:
+    """Every quantity of the run's summary ± 95 % interval, over the whole sampling record or over
+    its part from `start` s on (element blocks and mass-flow rows that begin at or after it, residence
+    records that end after it)."""
     run_dir = Path(run_dir)
     if not run_dir.is_dir():
         raise AnalysisInputError(f"{run_dir}: not a directory")
@@ -73,11 +76,13 @@ def summarise(run_dir: Path | str) -> RunSummary:
         if len(record.time) == 0:
             raise AnalysisInputError(f"{run_dir / 'massflow.txt'}: no complete window yet")
         clock = step_clock(record)
-        summary.rows += [SummaryRow(MASS_FLOW, name, e) for name, e in sensor_flows(record, None).items()]
+        summary.rows += [SummaryRow(MASS_FLOW, name, e) for name, e in sensor_flows(record, start).items()]
 
     def records() -> None:
         data = read_residence(run_dir / "residence.txt")
         complete = np.isin(data.exit_reason, RTD_EXIT_REASONS)
+        if start is not None:
+            complete &= data.exit_time > start
         summary.complete_records = int(complete.sum())
         if not complete.any():
             raise AnalysisInputError(f"0 complete records ({', '.join(RTD_EXIT_REASONS)}): the sampling window is "
@@ -90,7 +95,12 @@ def summarise(run_dir: Path | str) -> RunSummary:
     def elements() -> None:
         stats = read_element_statistics(run_dir / "elements.txt")
         times = clock.time(stats.timesteps) if clock is not None else stats.timesteps.astype(float)
-        by_zone, used = element_estimates(stats, zones, None, times)
+        first_step = None
+        if start is not None:
+            if clock is None:
+                raise AnalysisInputError(f"{run_dir / 'massflow.txt'}: no time axis to start the window at {start} s")
+            first_step = clock.step(start)
+        by_zone, used = element_estimates(stats, zones, first_step, times)
         summary.rows.append(SummaryRow(MASS_FLOW, DOMAIN_FLUX, domain_throughput(stats, zones, used, times)))
         summary.rows += [SummaryRow(RESIDENCE_HOLDUP, kind, e)
                          for kind, e in holdup_residence(stats, zones, used, times).items()]
@@ -145,11 +155,12 @@ class ComparisonRow:
     difference: Difference
 
 
-def combined_rows(run_dirs: Sequence[Path | str]) -> dict[tuple[str, str], Estimate]:
-    """Replicas (runs that differ only in the seed) combined quantity by quantity."""
+def combined_rows(run_dirs: Sequence[Path | str], start: float | None = None) -> dict[tuple[str, str], Estimate]:
+    """Replicas (runs that differ only in the seed) combined quantity by quantity, each over its
+    record from `start` s on (all of it when None)."""
     if not run_dirs:
         raise ValueError("no run directories")
-    summaries = [summarise(d) for d in run_dirs]
+    summaries = [summarise(d, start) for d in run_dirs]
     keys = [(r.quantity, r.scope) for r in summaries[0].rows]
     combined = {}
     for key in keys:
@@ -159,12 +170,14 @@ def combined_rows(run_dirs: Sequence[Path | str]) -> dict[tuple[str, str], Estim
     return combined
 
 
-def compare_runs(reference: Sequence[Path | str], variants: Mapping[str, Sequence[Path | str]]) -> list[ComparisonRow]:
-    """Each variant against the reference, quantity by quantity: difference ± 95 % interval."""
-    base = combined_rows(reference)
+def compare_runs(reference: Sequence[Path | str], variants: Mapping[str, Sequence[Path | str]],
+                 start: float | None = None) -> list[ComparisonRow]:
+    """Each variant against the reference, quantity by quantity: difference ± 95 % interval; every
+    run over its record from `start` s on (all of it when None)."""
+    base = combined_rows(reference, start)
     rows = []
     for label, run_dirs in variants.items():
-        for key, value in combined_rows(run_dirs).items():
+        for key, value in combined_rows(run_dirs, start).items():
             if key in base:
                 rows.append(ComparisonRow(label, *key, base[key], value, difference(base[key], value)))
     return rows

@@ -13,7 +13,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from .accuracy import key_estimates, sampling_ends
+import numpy as np
+
+from .accuracy import block_times, key_estimates
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
 from .run_files import AnalysisInputError
 from .uncertainty import Estimate, replica_means
@@ -135,37 +137,41 @@ def directions_markdown(verdicts: Sequence[Verdict]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def flux_halves(run_dirs: Sequence[Path]) -> tuple[Estimate, Estimate]:
-    """The domain flux Σ m v_x / L over the first and the second half of each run's sampling window,
-    each combined over the replicas (window means): whether a difference from the reference persists
-    or fades as the start-up transient does."""
-    firsts, seconds = [], []
+def flux_parts(run_dirs: Sequence[Path], parts: int = 2, start: float | None = None) -> list[Estimate]:
+    """The domain flux Σ m v_x / L over `parts` consecutive, equal shares of each run's element
+    blocks (those that begin at or after `start` s when given), each share combined over the
+    replicas (window means): whether a difference from the reference persists or fades as the
+    start-up does, and whether the flux has stopped drifting."""
+    if parts < 1:
+        raise ValueError(f"parts {parts}: at least 1")
+    means: list[list[float]] = [[] for _ in range(parts)]
     for run_dir in run_dirs:
-        (end,) = sampling_ends(run_dir, [0.5])
-        full = key_estimates(run_dir)[(MASS_FLOW, DOMAIN_FLUX)]
-        first = key_estimates(run_dir, end)[(MASS_FLOW, DOMAIN_FLUX)]
-        rest = full.samples - first.samples
-        if rest < 1:
-            raise AnalysisInputError(f"{run_dir}: too short a window to split in halves")
-        second_mean = (full.mean * full.samples - first.mean * first.samples) / rest
-        firsts.append(first.mean)
-        seconds.append(second_mean)
-    return replica_means([_point(m) for m in firsts]), replica_means([_point(m) for m in seconds])
+        begins, ends = block_times(run_dir)
+        chosen = np.flatnonzero(begins >= start - 1e-12) if start is not None else np.arange(len(ends))
+        if len(chosen) < 2 * parts:
+            raise AnalysisInputError(f"{run_dir}: {len(chosen)} element blocks"
+                                     + (f" from {start} s" if start is not None else "")
+                                     + f", too few to split in {parts} parts of at least 2")
+        for k, share in enumerate(np.array_split(chosen, parts)):
+            flux = key_estimates(run_dir, float(ends[share[-1]]), start=float(begins[share[0]]))
+            means[k].append(flux[(MASS_FLOW, DOMAIN_FLUX)].mean)
+    return [replica_means([_point(m) for m in part]) for part in means]
 
 
 def _point(mean: float) -> Estimate:
     return Estimate(mean, math.nan, 1, 1.0, math.nan)
 
 
-def halves_markdown(halves: dict[str, tuple[Estimate, Estimate]]) -> str:
-    """Per setting: the flux in each half of the window (replica means ± 95 %) and its change from
-    the reference's in the same half."""
-    lines = ["| setting | flux, first half (kg/h) | vs reference | flux, second half (kg/h) | vs reference |",
-             "|---|---|---|---|---|"]
-    reference = halves.get("reference")
-    for name, (first, second) in halves.items():
+def parts_markdown(parts: dict[str, list[Estimate]]) -> str:
+    """Per setting: the flux in each part of the window (replica means ± 95 %) and its change from
+    the reference's in the same part."""
+    count = max(len(values) for values in parts.values())
+    lines = ["| setting | " + " | ".join(f"flux, part {k + 1} (kg/h) | vs reference" for k in range(count)) + " |",
+             "|---|" + "---|---|" * count]
+    reference = parts.get("reference")
+    for name, values in parts.items():
         cells = []
-        for k, value in enumerate((first, second)):
+        for k, value in enumerate(values):
             change = "" if reference is None or name == "reference" else \
                 f"{value.mean / reference[k].mean - 1:+.0%}"
             cells += [value.text(), change]

@@ -35,6 +35,17 @@ def test_summary_of_a_steady_run(periodic_run):
     assert "± " in text and "600 rpm" in text and "mass flow (kg/h)" in text
 
 
+def test_summary_from_a_start_time_leaves_the_start_up_out(periodic_run):
+    """From 1.2 s on the fixture's elements are full: only the blocks that begin at or after the
+    start count (their intervals are 0.01 s long), and the inlet sensor still gives the feed rate."""
+    summary = summarise(periodic_run[0], 1.2)
+    kneading = summary.get(SOLID_FRACTION, "K1")
+    assert kneading.mean == pytest.approx(0.3) and kneading.samples == 80
+    inlet = summary.get(MASS_FLOW, "sensor_1")
+    assert inlet.chosen_start > 1.2 and abs(inlet.mean - FEED_KG_H) <= inlet.half_width
+    assert summary.complete_records < summarise(periodic_run[0]).complete_records
+
+
 def test_the_main_jobs_short_window_says_so_with_the_interval(short_run, tmp_path):
     summary = summarise(short_run)
     assert summary.complete_records == 0

@@ -92,9 +92,9 @@ def test_sweep_with_replicas_reports_differences_and_directions(tmp_path):
     assert "| cohesion-high | mass flow domain flux Σ m v_x / L | − | window too short | not resolved |" in proc.stdout
     # the flux in each half of the window: static friction's +50 % holds in both halves (the scaled
     # axial velocity is in every sample)
-    halves = (tmp_path / "report" / "halves.md").read_text()
+    halves = (tmp_path / "report" / "parts.md").read_text()
     assert re.search(r"\| static-friction-0.1 \| [^|]+ \| \+(4[5-9]|5[0-5])% \| [^|]+ \| \+(4[5-9]|5[0-5])% \|", halves), halves
-    for name in ("comparison.md", "comparison.csv", "directions.md", "halves.md", "mass-flow.png", "elements.png"):
+    for name in ("comparison.md", "comparison.csv", "directions.md", "parts.md", "mass-flow.png", "elements.png"):
         assert (tmp_path / "report" / name).stat().st_size > 0
 
 
@@ -102,3 +102,52 @@ def test_a_setting_without_enough_replicas_neither_agrees_nor_disagrees():
     short = ComparisonRow("restitution-0.1", MASS_FLOW, DOMAIN_FLUX, UNUSED, UNUSED, Difference(0.1, 1.0, 0.01, False))
     (v,) = [v for v in directions([short]) if v.claim.variant == "restitution-0.1"]
     assert (v.ours, v.agrees) == ("window too short", "not resolved") and "(too short)" in v.detail
+
+
+def test_report_window_starts_after_the_start_up(tmp_path):
+    """A variant whose effect appears only at t = 1.5 s (a start-up of half the record): averaged over
+    the whole record its flux is +25 % (half the blocks at +50 %); from --start 1.5 and from the
+    detected steady start (--start auto) it is +50 %, and parts.md shows 0 % then +50 %."""
+    import os
+    import subprocess
+    import sys
+
+    from make_fixture import write_run
+
+    sweep = [sys.executable, "-m", "tsg_cases.sweep"]
+    env = dict(os.environ)
+    subprocess.run([*sweep, "write", str(tmp_path), "--scale", "demo", "--np", "1", "--replicas", "3",
+                    "--only", "reference", "static-friction-0.1"], check=True, capture_output=True, env=env)
+    rng = np.random.default_rng(11)
+    for number, name in enumerate((tmp_path / "runs.txt").read_text().split()):
+        run_dir = tmp_path / name
+        write_run(run_dir, dumps=None, meshes=False, seed=200 + number)
+        lines = []
+        for line in (run_dir / "elements.txt").read_text().splitlines():
+            w = line.split()
+            if len(w) == 2 and not line.startswith("#"):
+                late = int(w[0]) * 5.0e-7 > 1.5 + 1e-9   # the block's time (fixture: 5e-7 s per step)
+            if len(w) == 6 and w[0] != "#":
+                factor = 1.5 if name.startswith("static-friction") and late else 1.0
+                w[3] = f"{float(w[3]) * factor * (1 + 0.02 * rng.normal()):.6g}"
+            lines.append(" ".join(w))
+        (run_dir / "elements.txt").write_text("\n".join(lines) + "\n")
+        (run_dir / "DONE").touch()
+
+    def flux_change(*options: str) -> float:
+        proc = subprocess.run([*sweep, "report", str(tmp_path), *options], capture_output=True, text=True, env=env)
+        assert proc.returncode == 0, proc.stderr
+        found = re.search(r"\| static-friction-0.1 \| mass flow domain flux Σ m v_x / L \| [^|]+ \| [^|]+ \| [^|]+ \| "
+                          r"domain flux Σ m v_x / L ([+-]\d+)%", proc.stdout)
+        assert found, proc.stdout
+        return int(found.group(1))
+
+    assert 20 <= flux_change("--parts", "2") <= 30
+    parts = (tmp_path / "report" / "parts.md").read_text()
+    assert re.search(r"\| static-friction-0.1 \| [^|]+ \| [+-][0-3]% \| [^|]+ \| \+(4[5-9]|5[0-5])% \|", parts), parts
+    assert 45 <= flux_change("--start", "1.5") <= 55
+    assert 45 <= flux_change("--start", "auto") <= 55
+    assert "the latest detected steady start" in (tmp_path / "report" / "parts.md").read_text()
+    for bad, why in (("-1", "a time in s >= 0"), ("soon", "a time in s >= 0"), ("5", "too few")):
+        proc = subprocess.run([*sweep, "report", str(tmp_path), "--start", bad], capture_output=True, text=True, env=env)
+        assert proc.returncode == 2 and why in proc.stderr, proc.stderr
