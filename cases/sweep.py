@@ -207,20 +207,21 @@ def window_start(text: str | None) -> float | str | None:
 
 
 def detected_steady_start(runs: list[Path]) -> tuple[float, str]:
-    """The latest start of stationarity of the domain flux over the runs, and a line naming each."""
-    from tsg_analysis.model import DOMAIN_FLUX, MASS_FLOW
-    from tsg_analysis.summary import summarise
+    """The latest start of stationarity of the domain flux over the runs (each in the first half of
+    its record: tsg_analysis.validation.steady_start), and a line naming each."""
+    from tsg_analysis.validation import STEADY_WITHIN, steady_start
 
     found = {}
     for run_dir in runs:
-        flux = summarise(run_dir).get(MASS_FLOW, DOMAIN_FLUX)
-        if flux is None or flux.detected_start is None:
+        start = steady_start(run_dir)
+        if start is None:
             raise ParameterError(f"--start auto: {run_dir} has too short a domain-flux record to detect a steady state "
                                  "(fewer than 10 element blocks); give --start T")
-        found[run_dir] = flux.detected_start
+        found[run_dir] = start
     latest = max(found.values())
     names = ", ".join(f"{d.parent.name}/{d.name} {t:.3g}" for d, t in found.items())
-    return latest, f"stationary from (s, domain flux, pymbar): {names}"
+    return latest, (f"stationary from (s; domain flux; pymbar's criterion, origin in the first {STEADY_WITHIN:.0%} "
+                    f"of each record): {names}")
 
 
 def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | None = None, parts: int = 2) -> int:

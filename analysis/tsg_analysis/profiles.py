@@ -92,7 +92,7 @@ def aligned_positions(zone_sets: list[Zones]) -> list[np.ndarray]:
     return [np.arange(len(zones)) + shift - anchor for zones, anchor in zip(zone_sets, anchors)]
 
 
-def _domain_flux(stats: ElementStatistics, zones: Zones, used: np.ndarray) -> np.ndarray:
+def domain_flux(stats: ElementStatistics, zones: Zones, used: np.ndarray) -> np.ndarray:
     """Σ_e m_e v_x,e / L per block, kg/s: the mass flow averaged over every plane of the zones."""
     length = float(np.sum(zones.x_end - zones.x_start))
     return (stats.column("mass")[used] * stats.column("mean_axial_velocity")[used]).sum(axis=1) / length
@@ -101,7 +101,7 @@ def _domain_flux(stats: ElementStatistics, zones: Zones, used: np.ndarray) -> np
 def domain_throughput(stats: ElementStatistics, zones: Zones, used: np.ndarray, times: np.ndarray) -> Estimate:
     """Mass flow through the domain, kg/h: the flux averaged over every plane (converges faster
     than a single sensor plane), ± 95 % interval."""
-    return estimate_mean(_domain_flux(stats, zones, used) * SECONDS_PER_HOUR, times[used], float(times[used][0]))
+    return estimate_mean(domain_flux(stats, zones, used) * SECONDS_PER_HOUR, times[used], float(times[used][0]))
 
 
 def holdup_residence(stats: ElementStatistics, zones: Zones, used: np.ndarray,
@@ -110,7 +110,7 @@ def holdup_residence(stats: ElementStatistics, zones: Zones, used: np.ndarray,
     τ_type = ⟨Σ_{e ∈ type} m_e⟩ / ⟨Q⟩ with Q = Σ_e m_e v_x,e / L the domain flux, s, ± 95 % interval
     (ratio estimator). Not available (NaN) when the mean flux is not forward."""
     mass = stats.column("mass")[used]
-    flux = _domain_flux(stats, zones, used)
+    flux = domain_flux(stats, zones, used)
     kinds = np.asarray(zones.kind)
     holdups = {kind: mass[:, kinds == kind].sum(axis=1) for kind in zones.types_present}
     holdups["total"] = mass.sum(axis=1)

@@ -183,17 +183,26 @@ def _drift(values: np.ndarray) -> bool | None:
     return bool(abs(m2 - m1) > DRIFT_QUANTILE * spread)
 
 
-def detect_start(values: np.ndarray, times: np.ndarray | None = None) -> float | None:
-    """Time (or index) from which the record is stationary: pymbar's detect_equilibration, trying at
-    most DETECTION_ORIGINS origins. None when the record is too short (under 10 samples) to tell."""
+def detect_start(values: np.ndarray, times: np.ndarray | None = None, within: float = 1.0) -> float | None:
+    """Time (or index) from which the record is stationary: the origin that leaves the most
+    independent samples after it, (N − t₀)/g(t₀) (Chodera 2016; pymbar's detect_equilibration), trying
+    at most DETECTION_ORIGINS origins, all in the first `within` of the record (1: anywhere; 0.5: at
+    least half the record stays, so that a dip near the end of a short noisy record cannot leave a
+    window of a few samples). None when the record is too short (under 10 samples) to tell."""
+    if not 0.0 < within <= 1.0:
+        raise ValueError(f"within {within}: a fraction of the record, 0 < within <= 1")
     values = np.asarray(values, dtype=np.float64)
     if len(values) < 10 or not np.all(np.isfinite(values)):
         return None
+    step = max(1, len(values) // DETECTION_ORIGINS)
     if np.ptp(values) == 0:
         origin = 0
+    elif within == 1.0:
+        origin = int(_timeseries().detect_equilibration(values, fast=True, nskip=step)[0])
     else:
-        origin = int(_timeseries().detect_equilibration(values, fast=True,
-                                                     nskip=max(1, len(values) // DETECTION_ORIGINS))[0])
+        candidates = range(0, max(1, int(within * len(values))), step)
+        independent = [(len(values) - t0) / statistical_inefficiency(values[t0:]) for t0 in candidates]
+        origin = candidates[int(np.argmax(independent))]
     return float(times[origin]) if times is not None else float(origin)
 
 

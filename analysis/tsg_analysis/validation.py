@@ -17,8 +17,9 @@ import numpy as np
 
 from .accuracy import block_times, key_estimates
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
-from .run_files import AnalysisInputError
-from .uncertainty import Estimate, replica_means
+from .profiles import domain_flux
+from .run_files import AnalysisInputError, read_element_statistics, read_zones
+from .uncertainty import Estimate, detect_start, replica_means
 
 # Section 4: mass flow (kg/h) at MFS_1/MFS_2 of the periodic system; the reference is the full
 # granulator's 14.4 kg/h, reproduced as 14.4–14.6 by the periodic reference.
@@ -135,6 +136,20 @@ def directions_markdown(verdicts: Sequence[Verdict]) -> str:
         lines.append(f"| {v.claim.variant} | {v.claim.label} | {arrow[v.claim.direction]} | {v.ours} | {v.agrees} | "
                      f"{v.detail} | {v.claim.source} |")
     return "\n".join(lines) + "\n"
+
+
+STEADY_WITHIN = 0.5  # the steady window keeps at least this share of a run's record
+
+
+def steady_start(run_dir: Path) -> float | None:
+    """When the run's domain flux Σ m v_x / L becomes stationary (s): the start-up detection of
+    uncertainty.detect_start with the origin in the first STEADY_WITHIN of the record; None for a
+    record under 10 blocks."""
+    stats = read_element_statistics(run_dir / "elements.txt")
+    zones = read_zones(run_dir / "zones.txt")
+    _, ends = block_times(run_dir)
+    flux = domain_flux(stats, zones, np.ones(len(ends), bool))
+    return detect_start(flux, ends, STEADY_WITHIN)
 
 
 def flux_parts(run_dirs: Sequence[Path], parts: int = 2, start: float | None = None) -> list[Estimate]:

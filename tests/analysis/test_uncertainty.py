@@ -255,3 +255,24 @@ def test_replica_prediction_interval_covers_a_new_run_95_percent(replicas):
     assert shifted / trials > (0.5 if replicas == 3 else 0.9)
     with pytest.raises(ValueError, match="at least 2"):
         replica_outlier([1.0], 1.0)
+
+
+def test_start_detection_within_the_first_half_ignores_a_dip_at_the_end():
+    """A start-up over the first 20 % of a record, then stationary noise ending in a short dip (a
+    record too short to average the dip away): the origin, searched in the first half, is found at
+    the end of the start-up; it is never in the second half."""
+    from tsg_analysis.uncertainty import detect_start
+
+    rng = np.random.default_rng(3)
+    n = 200
+    found = []
+    for _ in range(20):
+        values = 1.0 + 0.05 * rng.normal(size=n)
+        values[:40] += np.linspace(1.0, 0.0, 40)    # start-up: 40 samples
+        values[-6:] -= 0.3                           # a dip in the last 6 samples
+        start = detect_start(values, np.arange(n) * 0.01, within=0.5)
+        assert start is not None and start <= 0.5 * n * 0.01
+        found.append(start)
+    assert 0.3 <= float(np.median(found)) <= 0.6, found
+    with pytest.raises(ValueError, match="within"):
+        detect_start(np.ones(20), within=0.0)

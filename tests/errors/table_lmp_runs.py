@@ -1,6 +1,7 @@
 """Rows of the bad-input campaign (tests/errors/README.md) for faults across `run` commands and for the
 command line of lmp: an atom lost between two runs (or two chunks of `run N every M`) while atoms
-deleted or inserted on purpose stay allowed (patches/thermo-cpp.patch), and `-var NAME` that no line of
+deleted or inserted on purpose (delete_atoms, fix insert/*, fix outlet/sink) stay allowed
+(patches/thermo-cpp.patch, atom-h.patch), fix outlet/sink's own bad input, and `-var NAME` that no line of
 the input declares (`check_variables`, patches/variable-*.patch and input-cpp.patch)."""
 from __future__ import annotations
 
@@ -66,6 +67,19 @@ LOST_ROWS = [
          ("DONE with 1 particles",), "the cases' outlet deletes between chunks: not a loss", accepted=True),
     runs("allowed.insert-then-delete", INSERT + "run 20\nunfix feed\n" + GONE + "delete_atoms region gone\nrun 20\n",
          ("DONE with 6 particles",), "fix insert/pack adds 5, delete_atoms removes 1: 2 + 5 - 1", accepted=True),
+    runs("allowed.outlet-sink", "fix out all outlet/sink x 0.0\ngroup first id 1\nvelocity first set 1 0 0 units box\n"
+         "run 20\n", ("DONE with 1 particles",),
+         "fix outlet/sink removes particle 1 past x = 0 during the run: counted as removed, not lost", accepted=True),
+    runs("lost.despite-outlet-sink", "fix out all outlet/sink x 0.009\ngroup first id 1\n"
+         "velocity first set 0 0 500 units box\nrun 20\n", LOST,
+         "a particle leaving sideways before the outlet plane is still a loss"),
+    runs("outlet-sink.outside-box", "fix out all outlet/sink x 0.02\nrun 20\n",
+         ("fix out outlet/sink", "x 0.02 is not allowed", "inside the box along x (-0.01, 0.01)"),
+         "a plane outside the box would never remove anything"),
+    runs("outlet-sink.no-plane", "fix out all outlet/sink\nrun 20\n", ("fix out outlet/sink", "needs 'x X'"),
+         "the plane has no default"),
+    runs("outlet-sink.not-a-number", "fix out all outlet/sink x end\nrun 20\n",
+         ("fix out outlet/sink", "needs 'x X'", "got 'x end'"), "a position is a number in m"),
     runs("allowed.ignored-loss", "thermo_modify lost ignore\nset atom 1 z 0.05\nrun 20\nthermo_modify lost error\nrun 20\n",
          ("DONE with 1 particles",),
          "a loss the input chose to ignore is not reported again by the next run", accepted=True),
