@@ -4,6 +4,8 @@
     python -m tsg_analysis summary <run_dir>                                 the run's summary table
     python -m tsg_analysis compare <reference_dir> <run_dir> [...]          differences ± 95 % interval
                                    (replicas of one setting comma-separated: a,b,c)
+    python -m tsg_analysis domains <full_run> --periodic-zones ZONES        hold-up of the periodic elements
+    python -m tsg_analysis domains <full_run> --periodic a,b,c --out DIR    periodic against full (Figs. 8-9)
 
 A user mistake gives one line naming the option, the value and what is allowed, and exit status 2
 (an unusable input file: exit status 1); --debug shows the traceback instead.
@@ -124,6 +126,55 @@ def _compare(args: argparse.Namespace) -> int:
     return 0
 
 
+def _start(option: str, text: str, run_dir: Path) -> float:
+    """--*-start: a time in s >= 0, or 'auto' (the run's detected steady start)."""
+    from .validation import steady_start
+
+    if text == "auto":
+        found = steady_start(run_dir)
+        if found is None:
+            raise UsageError(f"{option} auto: {run_dir} has too short a record to detect a steady state; give a time")
+        return found
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not value >= 0.0:
+        raise UsageError(f"{option} {text} is not allowed: a time in s >= 0, or 'auto'")
+    return value
+
+
+def _domains(args: argparse.Namespace) -> int:
+    from .domains import compare_domains, domains_markdown, section_holdup
+    from .figures import plot_rtd_comparison
+    from .run_files import read_zones
+
+    if not args.full_run.is_dir():
+        raise UsageError(f"full_run {args.full_run}: no such directory")
+    full_start = _start("--full-start", args.full_start, args.full_run)
+    if args.periodic is None:
+        if args.periodic_zones is None:
+            raise UsageError("domains: give --periodic a,b,c (runs to compare) or --periodic-zones FILE (the hold-up only)")
+        holdup = section_holdup(args.full_run, read_zones(args.periodic_zones), full_start)
+        print(f"hold-up on the periodic domain's elements from t = {full_start:.4g} s: "
+              f"{holdup.mean * 1e3:.4g} ± {holdup.half_width * 1e3:.2g} g ({holdup.text()} kg)")
+        return 0
+    if args.out is None:
+        raise UsageError("domains --periodic: give --out DIR for the table and the figure")
+    periodic = _replicas(args.periodic)
+    starts = [_start("--periodic-start", args.periodic_start, d) for d in periodic]
+    comparison = compare_domains(args.full_run, periodic, full_start, max(starts))
+    args.out.mkdir(parents=True, exist_ok=True)
+    header = (f"Periodic {', '.join(str(d) for d in periodic)} (from t = {max(starts):.4g} s) against full "
+              f"{args.full_run} (from t = {full_start:.4g} s).\n\n")
+    text = header + domains_markdown(comparison)
+    (args.out / "domains.md").write_text(text)
+    plot_rtd_comparison(args.out / "rtd.png", [(label, samples) for label, samples in comparison.samples.items()],
+                        {("periodic", c.scope): c for c in comparison.rtds})
+    print(text + f"\nwritten: {args.out}/domains.md, rtd.png")
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     main_parser = _Parser(prog="python -m tsg_analysis", description="Post-analysis of TSG-DEM runs.")
     main_parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
@@ -160,6 +211,14 @@ def parser() -> argparse.ArgumentParser:
                          help="run directories to compare; replicas of one variant comma-separated")
     compare.add_argument("--csv", type=Path, help="also write the table as CSV")
     compare.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
+    domains = commands.add_parser("domains", help="the periodic sub-domain against the full granulator")
+    domains.add_argument("full_run", type=Path)
+    domains.add_argument("--periodic", help="periodic run directories, replicas comma-separated (a,b,c)")
+    domains.add_argument("--periodic-zones", type=Path, help="zones.txt of the periodic domain (hold-up only)")
+    domains.add_argument("--out", type=Path, help="output directory for domains.md and rtd.png")
+    domains.add_argument("--full-start", default="auto", help="steady start of the full run, s, or auto")
+    domains.add_argument("--periodic-start", default="auto", help="steady start of the periodic runs, s, or auto")
+    domains.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     return main_parser
 
 
@@ -168,7 +227,7 @@ def main(argv: list[str] | None = None) -> int:
     debug = "--debug" in argv
     try:
         args = parser().parse_args(argv)
-        return {"report": _report, "summary": _summary, "compare": _compare}[args.command](args)
+        return {"report": _report, "summary": _summary, "compare": _compare, "domains": _domains}[args.command](args)
     except UsageError as err:
         if debug:
             raise

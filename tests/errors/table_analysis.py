@@ -1,4 +1,4 @@
-"""Bad input to the analysis command line (python -m tsg_analysis report | summary | compare)."""
+"""Bad input to the analysis command line (python -m tsg_analysis report | summary | compare | domains)."""
 from __future__ import annotations
 
 import json
@@ -97,7 +97,7 @@ CASES: list[BadInput] = [
              why="the screw speed is the run's own (params.json / TSG-PARAMETERS), never a command-line default",
              command=report(RUN, "--out", "{tmp}/out", "--screw-rpm", "450"), files=run_dir(), env=ENV),
     BadInput("analysis.unknown-command", ("invalid choice", "'plot'"),
-             why="only report, summary and compare exist",
+             why="only report, summary, compare and domains exist",
              command=["{python}", "-m", "tsg_analysis", "plot", RUN], files=run_dir(), env=ENV),
     BadInput("analysis.report.params-json-broken", ("params.json: line 1", "not valid JSON", "rpm is unknown",
                                                     "--steady-window"),
@@ -127,5 +127,15 @@ CASES: list[BadInput] = [
     BadInput("analysis.compare.csv-is-a-directory", ("--csv", "is a directory"),
              why="the table would not be written where the user looks for it",
              command=["{python}", "-m", "tsg_analysis", "compare", RUN, RUN, "--csv", "{tmp}/run"],
+             files=run_dir(), env=ENV),
+    BadInput("analysis.domains.start", ("--full-start -0.5 is not allowed", "a time in s >= 0, or 'auto'"),
+             why="a steady window cannot start before the run",
+             command=["{python}", "-m", "tsg_analysis", "domains", RUN, "--full-start", "-0.5", "--periodic-zones",
+                      "{tmp}/run/zones.txt"], files=run_dir(), env=ENV),
+    BadInput("analysis.domains.nothing-to-do", ("give --periodic a,b,c", "or --periodic-zones FILE"),
+             why="without periodic runs or their zones there is nothing to align the full run with",
+             command=["{python}", "-m", "tsg_analysis", "domains", RUN, "--full-start", "1"], files=run_dir(), env=ENV),
+    BadInput("analysis.domains.no-out", ("give --out DIR",), why="the table and figure need a place",
+             command=["{python}", "-m", "tsg_analysis", "domains", RUN, "--full-start", "1", "--periodic", RUN],
              files=run_dir(), env=ENV),
 ]

@@ -1,0 +1,170 @@
+"""The periodic sub-domain against the full granulator (seed paper Section 3.1, Figs. 8–9).
+
+The paper runs the full granulator to steady state, gives the periodic sub-domain (conveying, one
+6 × 60° kneading block, conveying) the hold-up the full run has on the same elements, and compares
+the two element by element. Here:
+
+- `section_holdup`: the mass the full run holds on the elements the periodic domain models, aligned
+  on the first kneading element (accuracy.aligned_labels). The periodic domain's conveying ends are
+  shorter than the full machine's conveying elements around the block (29.2 against 37.5 mm): their
+  mass is taken in proportion to length, i.e. as uniformly filled along each such element.
+- `compare_domains`: each quantity of the periodic runs (replicas combined) against the full run's
+  on the aligned elements, difference ± 95 % interval: solid fraction, speed, axial velocity and the
+  mean time per passage of each element (from the residence records: a full run's particles pass the
+  block once, a periodic run's particles once per pass); the mass flow through the section (Σ m v_x
+  over the aligned elements / their length) against the periodic domain flux; and the distributions
+  of the time per passage of the kneading block and of the section (Kolmogorov–Smirnov distance, the
+  Fig. 8 analogue).
+Every run is taken from its steady start on (given, or detected as in validation.steady_start).
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .accuracy import SPEED, aligned_labels, block_times, key_estimates
+from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+from .rtd import RTDComparison, compare_rtds, mean_residence
+from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_residence, read_zones
+from .uncertainty import Difference, Estimate, combine_replicas, difference, estimate_mean
+
+SECONDS_PER_HOUR = 3600.0
+TIME_PER_PASSAGE = "time per passage"
+SECTION_FLUX = "flux through the section Σ m v_x / L"
+KNEADING_BLOCK = "kneading block"
+SECTION = "section"
+
+
+@dataclass(frozen=True)
+class DomainRow:
+    quantity: str
+    scope: str
+    full: Estimate
+    periodic: Estimate
+    difference: Difference  # periodic − full
+
+
+def section_indices(full: Zones, periodic: Zones) -> list[int]:
+    """For each periodic zone, the index of the full run's zone it stands for."""
+    labels = aligned_labels(full, periodic)
+    found = {label: i for i, label in enumerate(labels) if label is not None}
+    missing = [label for label in periodic.labels if label not in found]
+    if missing:
+        raise AnalysisInputError(f"the full run's zones have no counterpart of the periodic domain's {', '.join(missing)} "
+                                 "(aligned on the first kneading element)")
+    return [found[label] for label in periodic.labels]
+
+
+def _steady_blocks(run_dir: Path, start: float) -> tuple[np.ndarray, np.ndarray]:
+    begins, ends = block_times(run_dir)
+    used = begins >= start - 1e-12
+    if used.sum() < 2:
+        raise AnalysisInputError(f"{run_dir}: fewer than 2 element blocks from {start} s")
+    return used, ends[used]
+
+
+def section_holdup(full_run: Path, periodic: Zones, start: float) -> Estimate:
+    """Mass (kg) the full run holds on the periodic domain's elements from `start` s on, ± 95 %."""
+    full = read_zones(full_run / "zones.txt")
+    index = section_indices(full, periodic)
+    stats = read_element_statistics(full_run / "elements.txt")
+    used, times = _steady_blocks(full_run, start)
+    mass = stats.column("mass")[used]
+    full_length = full.x_end - full.x_start
+    share = (periodic.x_end - periodic.x_start) / full_length[index]
+    return estimate_mean((mass[:, index] * share).sum(axis=1), times, float(times[0]))
+
+
+def _section_flux(full_run: Path, periodic: Zones, start: float) -> Estimate:
+    full = read_zones(full_run / "zones.txt")
+    index = section_indices(full, periodic)
+    stats = read_element_statistics(full_run / "elements.txt")
+    used, times = _steady_blocks(full_run, start)
+    momentum = (stats.column("mass")[used] * stats.column("mean_axial_velocity")[used])[:, index]
+    length = float(np.sum((full.x_end - full.x_start)[index]))
+    return estimate_mean(momentum.sum(axis=1) / length * SECONDS_PER_HOUR, times, float(times[0]))
+
+
+def passage_times(run_dir: Path, zone_indices: Sequence[int], start: float) -> np.ndarray:
+    """Per complete record ending after `start` s (outlet or periodic pass), the time spent in the
+    given zones together (s), in exit order."""
+    records = read_residence(run_dir / "residence.txt")
+    complete = np.isin(records.exit_reason, RTD_EXIT_REASONS) & (records.exit_time > start)
+    order = np.argsort(records.exit_time[complete], kind="stable")
+    return records.time_by_zone[complete][:, list(zone_indices)].sum(axis=1)[order]
+
+
+def _passage_estimate(samples: np.ndarray) -> Estimate:
+    if len(samples) < 2:
+        return Estimate(math.nan, math.nan, len(samples), float(len(samples)), math.nan)
+    return mean_residence(samples, np.arange(len(samples), dtype=float))
+
+
+@dataclass(frozen=True)
+class DomainComparison:
+    rows: list[DomainRow]
+    rtds: list[RTDComparison]
+    samples: dict[str, dict[str, np.ndarray]]  # run label -> scope -> times per passage
+    holdup: Estimate                          # the full run's section hold-up, kg
+    periodic_holdup: float                    # the periodic runs' mass, kg
+
+
+def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: float,
+                    periodic_start: float) -> DomainComparison:
+    periodic_zones = read_zones(periodic_runs[0] / "zones.txt")
+    full_zones = read_zones(full_run / "zones.txt")
+    index = section_indices(full_zones, periodic_zones)
+    full = key_estimates(full_run, start=full_start, reference_zones=periodic_zones)
+    each = [key_estimates(d, start=periodic_start) for d in periodic_runs]
+    rows: list[DomainRow] = []
+    for quantity in (SOLID_FRACTION, SPEED, AXIAL_VELOCITY):
+        for label in periodic_zones.labels:
+            key = (quantity, label)
+            periodic = combine_replicas([e[key] for e in each])
+            rows.append(DomainRow(quantity, label, full[key], periodic, difference(full[key], periodic)))
+    section_flux = _section_flux(full_run, periodic_zones, full_start)
+    periodic_flux = combine_replicas([e[(MASS_FLOW, DOMAIN_FLUX)] for e in each])
+    rows.insert(0, DomainRow(MASS_FLOW, SECTION_FLUX, section_flux, periodic_flux,
+                             difference(section_flux, periodic_flux)))
+    kneading = [j for j, kind in enumerate(periodic_zones.kind) if kind == "kneading"]
+    scopes = {KNEADING_BLOCK: kneading, SECTION: list(range(len(periodic_zones))),
+              **{label: [j] for j, label in enumerate(periodic_zones.labels)}}
+    samples: dict[str, dict[str, np.ndarray]] = {"full": {}, "periodic": {}}
+    for scope, zones in scopes.items():
+        samples["full"][scope] = passage_times(full_run, [index[j] for j in zones], full_start)
+        samples["periodic"][scope] = np.concatenate([passage_times(d, zones, periodic_start) for d in periodic_runs])
+        full_time = _passage_estimate(samples["full"][scope])
+        periodic_time = combine_replicas([_passage_estimate(passage_times(d, zones, periodic_start))
+                                          for d in periodic_runs])
+        rows.append(DomainRow(TIME_PER_PASSAGE, scope, full_time, periodic_time, difference(full_time, periodic_time)))
+    rtds = [compare_rtds(samples["full"][scope], samples["periodic"][scope], scope)
+            for scope in (KNEADING_BLOCK, SECTION)
+            if len(samples["full"][scope]) > 1 and len(samples["periodic"][scope]) > 1]
+    masses = [float(read_element_statistics(d / "elements.txt").column("mass")[-1].sum()) for d in periodic_runs]
+    return DomainComparison(rows, rtds, {"full": {s: samples["full"][s] for s in (KNEADING_BLOCK, SECTION)},
+                                         "periodic": {s: samples["periodic"][s] for s in (KNEADING_BLOCK, SECTION)}},
+                            section_holdup(full_run, periodic_zones, full_start), float(np.mean(masses)))
+
+
+UNITS = {MASS_FLOW: "kg/h", SOLID_FRACTION: "-", SPEED: "m/s", AXIAL_VELOCITY: "m/s", TIME_PER_PASSAGE: "s"}
+
+
+def domains_markdown(comparison: DomainComparison) -> str:
+    lines = [f"Hold-up on the section's elements in the full run: {comparison.holdup.mean * 1e3:.3g} ± "
+             f"{comparison.holdup.half_width * 1e3:.2g} g; the periodic runs hold {comparison.periodic_holdup * 1e3:.3g} g.",
+             "",
+             "| quantity | scope | full | periodic | periodic − full | significant |", "|---|---|---|---|---|---|"]
+    for r in comparison.rows:
+        unit = UNITS[r.quantity]
+        relative = f" ({r.difference.value / r.full.mean:+.0%})" if r.full.mean else ""
+        lines.append(f"| {r.quantity} ({unit}) | {r.scope} | {r.full.text()} | {r.periodic.text()} | "
+                     f"{r.difference.text(unit)}{relative} | {'yes' if r.difference.significant else 'no'} |")
+    lines += ["", "| time per passage of | KS distance | mean, periodic against full | agree (KS ≤ threshold) |",
+              "|---|---|---|---|"]
+    lines += [f"| {c.scope} | {c.ks_distance:.3f} | {c.mean_difference:+.0%} | {'yes' if c.agree else 'no'} |"
+              for c in comparison.rtds]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,64 @@
+"""The periodic sub-domain against the full granulator (tsg_analysis.domains): the full run's
+elements aligned on the first kneading element, the section's hold-up from the element masses, and
+the time per passage of the kneading block from the residence records, each against a value
+computed here from the fixture's construction (make_fixture)."""
+import numpy as np
+import pytest
+
+from make_fixture import DENSITY, ELEMENT_VALUES, FREE_AREA, LAYOUTS, MEAN_RESIDENCE, write_run
+from tsg_analysis.accuracy import SPEED
+from tsg_analysis.domains import (KNEADING_BLOCK, SECTION_FLUX, TIME_PER_PASSAGE, compare_domains, domains_markdown,
+                                  section_holdup, section_indices)
+from tsg_analysis.model import AXIAL_VELOCITY, MASS_FLOW, SOLID_FRACTION
+from tsg_analysis.run_files import read_zones
+
+STEADY = 1.2   # make_fixture.STEADY_FROM: the elements are full from here on
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    root = tmp_path_factory.mktemp("domains")
+    write_run(root / "full", kind="full", dumps=None, meshes=False, seed=7)
+    for seed in (1, 2, 3):
+        write_run(root / f"periodic-{seed}", kind="periodic", dumps=None, meshes=False, seed=seed)
+    return root
+
+
+def test_the_full_machines_section_is_found_on_its_first_kneading_block(runs):
+    full, periodic = read_zones(runs / "full" / "zones.txt"), read_zones(runs / "periodic-1" / "zones.txt")
+    # full: C(50) K1..K6 C(37.5) K7..K12 C(37.5) CH CH; periodic: C K1..K6 C
+    assert section_indices(full, periodic) == [0, 1, 2, 3, 4, 5, 6, 7]
+
+
+def test_section_holdup_scales_the_longer_conveying_elements_by_length(runs):
+    periodic = read_zones(runs / "periodic-1" / "zones.txt")
+    holdup = section_holdup(runs / "full", periodic, STEADY)
+    # uniformly filled elements: the section holds what the periodic domain's own elements would,
+    # each length x free area x solid fraction x density
+    expected = sum(FREE_AREA * length * 1e-3 * ELEMENT_VALUES[kind][0] * DENSITY for kind, length in LAYOUTS["periodic"])
+    assert holdup.mean == pytest.approx(expected, rel=1e-5)
+
+
+def test_periodic_against_full_element_by_element(runs):
+    comparison = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
+    rows = {(r.quantity, r.scope): r for r in comparison.rows}
+    for quantity in (SOLID_FRACTION, SPEED, AXIAL_VELOCITY):   # the same element values in both fixtures
+        assert all(not rows[(quantity, label)].difference.significant for label in ("C1", "K1", "K6", "C2"))
+        assert rows[(quantity, "K3")].full.mean == pytest.approx(rows[(quantity, "K3")].periodic.mean, rel=1e-6)
+    assert (MASS_FLOW, SECTION_FLUX) in rows
+    # the fixture splits each residence time over the zones in proportion to length x (3 for kneading):
+    # the kneading block's share is 3 x 37.5 mm of the whole weight of each layout
+    def block_share(kind: str) -> float:
+        weights = [length * (3.0 if k == "kneading" else 1.0) for k, length in LAYOUTS[kind]]
+        return 3.0 * 37.5 / sum(weights)
+
+    block = rows[(TIME_PER_PASSAGE, KNEADING_BLOCK)]
+    assert block.full.mean == pytest.approx(MEAN_RESIDENCE * block_share("full"), rel=0.05)
+    assert block.periodic.mean == pytest.approx(MEAN_RESIDENCE * block_share("periodic"), rel=0.05)
+    assert block.difference.significant and block.difference.value > 0   # the periodic block holds a larger share
+    (ks,) = [c for c in comparison.rtds if c.scope == KNEADING_BLOCK]
+    assert not ks.agree and ks.mean_difference == pytest.approx(block_share("periodic") / block_share("full") - 1, rel=0.1)
+    assert comparison.periodic_holdup == pytest.approx(comparison.holdup.mean, rel=1e-5)
+    text = domains_markdown(comparison)
+    assert "| time per passage (s) | kneading block |" in text and "KS distance" in text
+    assert np.isfinite(comparison.holdup.half_width)
