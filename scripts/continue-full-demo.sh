@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Continue the full granulator at 1.5 mm (docs/validation.md, "Periodic against full") from the state
+# kept in docs/validation/full-demo-d15/ (its latest restart file and outputs, compressed), in
+# segments that each pick up from the latest restart file (cases/slurm/segment.sh).
+#
+#   scripts/continue-full-demo.sh [RANKS]      # default 2; run it again to go on after a stop
+#   scripts/continue-full-demo.sh --keep       # compress the run's latest state back into docs/
+#
+# The run stops by itself at t_sample after its (spurious, at 0.99 s) in-script steady state; the
+# steady window is chosen afterwards: python -m tsg_analysis domains ... --full-start auto.
+set -euo pipefail
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+kept="$repo/docs/validation/full-demo-d15"
+out="$repo/runs/full-demo-d15/seed-1"
+mesh="$repo/build/meshes/consigma1-full-4um-c2.1-4.2mm-g2.1mm"
+python="$repo/.venv/bin/python"
+
+if [ "${1:-}" = "--keep" ]; then   # the latest restart file and the outputs, compressed into docs/
+  latest=$(find "$out" -maxdepth 1 -name 'restart.[0-9]*' -printf '%f\n' | sort -t. -k2 -n | tail -1)
+  [ -n "$latest" ] || { echo "no restart file in $out" >&2; exit 1; }
+  rm -f "$kept"/restart.*.xz
+  xz -T2 -6 -c "$out/$latest" > "$kept/$latest.xz"
+  for f in log.lammps massflow.txt residence.txt elements.txt $(cd "$out" && ls elements.upto-*.txt 2>/dev/null); do
+    xz -c "$out/$f" > "$kept/$f.xz"
+  done
+  cp "$out"/{feed.in,phase.in,params.json,zones.txt,machine.in,holdup.txt} "$kept"/
+  echo "kept $latest and the outputs in $kept"
+  exit 0
+fi
+
+ranks="${1:-2}"
+[ -f "$mesh/zones.txt" ] || "$python" -m tsg_meshes build consigma1-full "$mesh" --tolerance 4e-06 \
+  --clearance 0.0021 --screw-clearance 0.0042 --disc-gap 0.0021
+if [ ! -d "$out" ]; then   # unpack the kept state
+  mkdir -p "$out"
+  cp "$kept"/{feed.in,phase.in,params.json,zones.txt,machine.in,holdup.txt} "$out"/
+  for f in "$kept"/*.xz; do xz -dc "$f" > "$out/$(basename "$f" .xz)"; done
+fi
+vars=$("$python" - "$out" "$mesh" <<'PY'
+import json, sys
+out, mesh = sys.argv[1], sys.argv[2]
+given = json.load(open(f"{out}/params.json"))["variables"]
+given.update({"feed_file": f"{out}/feed.in", "mesh_dir": mesh})
+skip = {"out_dir", "procs_x", "restart_every", "case_dir"}
+print(" ".join(f"-var {k} {v}" for k, v in given.items() if k not in skip))
+PY
+)
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+launch=""
+[ "$ranks" -gt 1 ] && launch="mpirun -np $ranks --oversubscribe"
+TSG_OUT="$out" TSG_LAUNCH="$launch" TSG_RESTART_EVERY=80000 TSG_VARS="$vars" SLURM_NTASKS="$ranks" \
+  "$repo/cases/slurm/segment.sh" full /dev/null
