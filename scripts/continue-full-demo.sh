@@ -45,6 +45,9 @@ skip = {"out_dir", "procs_x", "restart_every", "case_dir"}
 print(" ".join(f"-var {k} {v}" for k, v in given.items() if k not in skip))
 PY
 )
+# segment.sh refuses a restart file the previous segment started from too (a job chain that makes no
+# progress); run by hand, a segment stopped before its next restart file is simply started again
+rm -f "$out/last-restart"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 launch=""
 [ "$ranks" -gt 1 ] && launch="mpirun -np $ranks --oversubscribe"
