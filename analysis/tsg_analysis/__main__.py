@@ -156,8 +156,8 @@ def _domains(args: argparse.Namespace) -> int:
         if args.periodic_zones is None:
             raise UsageError("domains: give --periodic a,b,c (runs to compare) or --periodic-zones FILE (the hold-up only)")
         holdup = section_holdup(args.full_run, read_zones(args.periodic_zones), full_start)
-        print(f"hold-up on the periodic domain's elements from t = {full_start:.4g} s: "
-              f"{holdup.mean * 1e3:.4g} ± {holdup.half_width * 1e3:.2g} g ({holdup.text()} kg)")
+        print(f"hold-up on the periodic domain's elements from t = {full_start:.4g} s: {holdup.mean * 1e3:.4g} g "
+              f"(in kg: {holdup.text('kg')})")
         return 0
     if args.out is None:
         raise UsageError("domains --periodic: give --out DIR for the table and the figure")

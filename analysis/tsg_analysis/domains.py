@@ -154,8 +154,8 @@ UNITS = {MASS_FLOW: "kg/h", SOLID_FRACTION: "-", SPEED: "m/s", AXIAL_VELOCITY: "
 
 
 def domains_markdown(comparison: DomainComparison) -> str:
-    lines = [f"Hold-up on the section's elements in the full run: {comparison.holdup.mean * 1e3:.3g} ± "
-             f"{comparison.holdup.half_width * 1e3:.2g} g; the periodic runs hold {comparison.periodic_holdup * 1e3:.3g} g.",
+    lines = [f"Hold-up on the section's elements in the full run: {comparison.holdup.mean * 1e3:.3g} g (in kg: "
+             f"{comparison.holdup.text('kg')}); the periodic runs hold {comparison.periodic_holdup * 1e3:.3g} g.",
              "",
              "| quantity | scope | full | periodic | periodic − full | significant |", "|---|---|---|---|---|---|"]
     for r in comparison.rows:
