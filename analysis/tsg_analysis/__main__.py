@@ -202,10 +202,10 @@ def parser() -> argparse.ArgumentParser:
                         help="particle density (kg/m^3) for dumps without a mass column (default: the run's rho_p)")
     report.add_argument("--no-snapshot", action="store_true", help="skip the pyvista snapshot")
     report.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
-    summary = commands.add_parser("summary", help="print a run's summary: every quantity ± 95 % interval")
+    summary = commands.add_parser("summary", help="print a run's summary: every quantity ± 95 %% interval")
     summary.add_argument("run_dir", type=Path)
     summary.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
-    compare = commands.add_parser("compare", help="differences of runs against a reference ± 95 % interval")
+    compare = commands.add_parser("compare", help="differences of runs against a reference ± 95 %% interval")
     compare.add_argument("reference", help="reference run directory; replicas comma-separated (a,b,c)")
     compare.add_argument("run_dirs", nargs="+", metavar="run_dir",
                          help="run directories to compare; replicas of one variant comma-separated")
