@@ -145,8 +145,10 @@ def _start(option: str, text: str, run_dir: Path) -> float:
 
 
 def _domains(args: argparse.Namespace) -> int:
-    from .domains import compare_domains, domains_markdown, section_holdup
-    from .figures import plot_rtd_comparison
+    from .accuracy import SPEED
+    from .domains import TIME_PER_PASSAGE, compare_domains, domains_markdown, machine_residence, section_holdup
+    from .figures import plot_domain_elements, plot_rtd_comparison
+    from .model import AXIAL_VELOCITY, SOLID_FRACTION
     from .run_files import read_zones
 
     if not args.full_run.is_dir():
@@ -158,6 +160,7 @@ def _domains(args: argparse.Namespace) -> int:
         holdup = section_holdup(args.full_run, read_zones(args.periodic_zones), full_start)
         print(f"hold-up on the periodic domain's elements from t = {full_start:.4g} s: {holdup.mean * 1e3:.4g} g "
               f"(in kg: {holdup.text('kg')})")
+        print(machine_residence(args.full_run, full_start).text())
         return 0
     if args.out is None:
         raise UsageError("domains --periodic: give --out DIR for the table and the figure")
@@ -171,7 +174,8 @@ def _domains(args: argparse.Namespace) -> int:
     (args.out / "domains.md").write_text(text)
     plot_rtd_comparison(args.out / "rtd.png", [(label, samples) for label, samples in comparison.samples.items()],
                         {("periodic", c.scope): c for c in comparison.rtds})
-    print(text + f"\nwritten: {args.out}/domains.md, rtd.png")
+    plot_domain_elements(args.out / "elements.png", comparison.rows, (SOLID_FRACTION, SPEED, AXIAL_VELOCITY, TIME_PER_PASSAGE))
+    print(text + f"\nwritten: {args.out}/domains.md, rtd.png, elements.png")
     return 0
 
 
@@ -215,7 +219,7 @@ def parser() -> argparse.ArgumentParser:
     domains.add_argument("full_run", type=Path)
     domains.add_argument("--periodic", help="periodic run directories, replicas comma-separated (a,b,c)")
     domains.add_argument("--periodic-zones", type=Path, help="zones.txt of the periodic domain (hold-up only)")
-    domains.add_argument("--out", type=Path, help="output directory for domains.md and rtd.png")
+    domains.add_argument("--out", type=Path, help="output directory for domains.md, rtd.png and elements.png")
     domains.add_argument("--full-start", default="auto", help="steady start of the full run, s, or auto")
     domains.add_argument("--periodic-start", default="auto", help="steady start of the periodic runs, s, or auto")
     domains.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)

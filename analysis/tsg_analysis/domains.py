@@ -15,6 +15,10 @@ the two element by element. Here:
   over the aligned elements / their length) against the periodic domain flux; and the distributions
   of the time per passage of the kneading block and of the section (Kolmogorov–Smirnov distance, the
   Fig. 8 analogue).
+- `machine_residence`: the full granulator's mean residence time two ways — the mean over the outlet
+  records of the window, and the mass balance τ = M / ṁ (hold-up over throughput; Little's law, exact
+  for any steady flow). The records lag: a particle leaving early in the window entered about τ
+  before, so the two agree only once the window starts at least τ after the start of steady flow.
 Every run is taken from its steady start on (given, or detected as in validation.steady_start).
 """
 from __future__ import annotations
@@ -29,8 +33,8 @@ import numpy as np
 from .accuracy import SPEED, aligned_labels, block_times, key_estimates
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
 from .rtd import RTDComparison, compare_rtds, mean_residence
-from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_residence, read_zones
-from .uncertainty import Difference, Estimate, combine_replicas, difference, estimate_mean
+from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, read_residence, read_zones
+from .uncertainty import Difference, Estimate, combine_replicas, difference, estimate_mean, format_interval
 
 SECONDS_PER_HOUR = 3600.0
 TIME_PER_PASSAGE = "time per passage"
@@ -105,12 +109,52 @@ def _passage_estimate(samples: np.ndarray) -> Estimate:
 
 
 @dataclass(frozen=True)
+class MachineResidence:
+    records: Estimate   # mean residence time of the particles that left through the outlet in the window, s
+    holdup: Estimate    # mass on every element, kg
+    outflow: Estimate   # mass flow at the last sensor, kg/h
+
+    def mass_balance(self) -> tuple[float, float]:
+        """τ = M / ṁ (s) and its 95 % half-width (first order in the two relative half-widths)."""
+        tau = self.holdup.mean / (self.outflow.mean / SECONDS_PER_HOUR)
+        relative = math.hypot(self.holdup.half_width / self.holdup.mean, self.outflow.half_width / self.outflow.mean)
+        return tau, tau * relative
+
+    def text(self) -> str:
+        tau, half_width = self.mass_balance()
+        resolved = self.holdup.resolved and self.outflow.resolved
+        balance = format_interval(tau, half_width) + " s" + ("" if resolved else " (indicative: too few independent samples)")
+        return (f"Mean residence time of the full granulator: {self.records.text('s')} over the "
+                f"{self.records.samples} particles that left through the outlet in the window; hold-up / throughput "
+                f"{balance} (hold-up {self.holdup.mean * 1e3:.4g} g, outflow {self.outflow.text('kg/h')}).")
+
+
+def machine_residence(full_run: Path, start: float) -> MachineResidence:
+    """The full run's mean residence time from `start` s on: outlet records, and hold-up over throughput."""
+    records = read_residence(full_run / "residence.txt")
+    left = (records.exit_reason == "outlet") & (records.exit_time > start)
+    if np.count_nonzero(left) < 2:
+        raise AnalysisInputError(f"{full_run}: {np.count_nonzero(left)} particles left through the outlet after "
+                                 f"{start:g} s; a mean residence time needs at least 2")
+    stats = read_element_statistics(full_run / "elements.txt")
+    used, times = _steady_blocks(full_run, start)
+    holdup = estimate_mean(stats.column("mass")[used].sum(axis=1), times, float(times[0]))
+    flows = read_massflow(full_run / "massflow.txt")
+    outflow = estimate_mean(flows.flow[:, -1], flows.time, start)
+    if not outflow.mean > 0:
+        raise AnalysisInputError(f"{full_run}: the outlet sensor's mean flow after {start:g} s is {outflow.mean:.3g} kg/h; "
+                                 "hold-up over throughput needs material leaving")
+    return MachineResidence(mean_residence(records.residence_time[left], records.exit_time[left]), holdup, outflow)
+
+
+@dataclass(frozen=True)
 class DomainComparison:
     rows: list[DomainRow]
     rtds: list[RTDComparison]
     samples: dict[str, dict[str, np.ndarray]]  # run label -> scope -> times per passage
     holdup: Estimate                          # the full run's section hold-up, kg
     periodic_holdup: float                    # the periodic runs' mass, kg
+    residence: MachineResidence               # the full granulator's mean residence time
 
 
 def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: float,
@@ -147,7 +191,8 @@ def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: f
     masses = [float(read_element_statistics(d / "elements.txt").column("mass")[-1].sum()) for d in periodic_runs]
     return DomainComparison(rows, rtds, {"full": {s: samples["full"][s] for s in (KNEADING_BLOCK, SECTION)},
                                          "periodic": {s: samples["periodic"][s] for s in (KNEADING_BLOCK, SECTION)}},
-                            section_holdup(full_run, periodic_zones, full_start), float(np.mean(masses)))
+                            section_holdup(full_run, periodic_zones, full_start), float(np.mean(masses)),
+                            machine_residence(full_run, full_start))
 
 
 UNITS = {MASS_FLOW: "kg/h", SOLID_FRACTION: "-", SPEED: "m/s", AXIAL_VELOCITY: "m/s", TIME_PER_PASSAGE: "s"}
@@ -156,7 +201,7 @@ UNITS = {MASS_FLOW: "kg/h", SOLID_FRACTION: "-", SPEED: "m/s", AXIAL_VELOCITY: "
 def domains_markdown(comparison: DomainComparison) -> str:
     lines = [f"Hold-up on the section's elements in the full run: {comparison.holdup.mean * 1e3:.3g} g (in kg: "
              f"{comparison.holdup.text('kg')}); the periodic runs hold {comparison.periodic_holdup * 1e3:.3g} g.",
-             "",
+             "", comparison.residence.text(), "",
              "| quantity | scope | full | periodic | periodic − full | significant |", "|---|---|---|---|---|---|"]
     for r in comparison.rows:
         unit = UNITS[r.quantity]

@@ -275,3 +275,25 @@ def plot_element_panels(path: Path, rows: Sequence, quantities: Sequence[str]) -
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
     return _save(fig, path)
+
+
+def plot_domain_elements(path: Path, rows: Sequence, quantities: Sequence[str]) -> Path:
+    """The periodic sub-domain against the full granulator element by element (seed Fig. 9): one
+    panel per quantity, bars: 95 % intervals (hollow: not resolved). `rows`: domains.DomainRow."""
+    scopes = list(dict.fromkeys(r.scope for r in rows if r.scope[:1] in ("C", "K") and r.scope[1:].isdigit()))
+    fig, axes = plt.subplots(1, len(quantities), figsize=(4.5 * len(quantities), 3.8), squeeze=False)
+    for ax, quantity in zip(axes[0], quantities):
+        mine = {r.scope: r for r in rows if r.quantity == quantity and r.scope in scopes}
+        for k, side in enumerate(("full", "periodic")):
+            values = [getattr(mine[s], side) for s in scopes if s in mine]
+            xs = [i + (k - 0.5) * 0.12 for i, s in enumerate(scopes) if s in mine]
+            ax.errorbar(xs, [e.mean for e in values],
+                        yerr=[e.half_width if math.isfinite(e.half_width) else 0 for e in values],
+                        fmt="-o", ms=4, capsize=2, lw=1, label=side,
+                        mfc="none" if not all(e.resolved for e in values) else None)
+        ax.set_xticks(range(len(scopes)), scopes)
+        ax.set_title(quantity)
+        ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=8)
+    fig.tight_layout()
+    return _save(fig, path)

@@ -2,16 +2,22 @@
 elements aligned on the first kneading element, the section's hold-up from the element masses, and
 the time per passage of the kneading block from the residence records, each against a value
 computed here from the fixture's construction (make_fixture)."""
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from make_fixture import DENSITY, ELEMENT_VALUES, FREE_AREA, LAYOUTS, MEAN_RESIDENCE, write_run
+from make_fixture import DENSITY, ELEMENT_VALUES, FEED_KG_H, FREE_AREA, LAYOUTS, MEAN_RESIDENCE, write_run
 from tsg_analysis.accuracy import SPEED
 from tsg_analysis.domains import (KNEADING_BLOCK, SECTION_FLUX, TIME_PER_PASSAGE, compare_domains, domains_markdown,
-                                  section_holdup, section_indices)
+                                  machine_residence, section_holdup, section_indices)
 from tsg_analysis.model import AXIAL_VELOCITY, MASS_FLOW, SOLID_FRACTION
-from tsg_analysis.run_files import read_zones
+from tsg_analysis.run_files import AnalysisInputError, read_zones
 
+ANALYSIS_DIR = Path(__file__).resolve().parents[2] / "analysis"
 STEADY = 1.2   # make_fixture.STEADY_FROM: the elements are full from here on
 
 
@@ -62,3 +68,40 @@ def test_periodic_against_full_element_by_element(runs):
     text = domains_markdown(comparison)
     assert "| time per passage (s) | kneading block |" in text and "KS distance" in text
     assert np.isfinite(comparison.holdup.half_width)
+
+
+def test_mean_residence_time_of_the_full_machine_two_ways(runs):
+    residence = machine_residence(runs / "full", STEADY)
+    # the records: Gamma(TANKS, MEAN_RESIDENCE / TANKS) residence times of the particles that left
+    assert residence.records.mean == pytest.approx(MEAN_RESIDENCE, rel=0.1)
+    assert abs(residence.records.mean - MEAN_RESIDENCE) < 1.5 * residence.records.half_width
+    # the mass balance: every element full from STEADY on, the outlet sensor at FEED_KG_H ± noise
+    holdup = sum(FREE_AREA * length * 1e-3 * ELEMENT_VALUES[kind][0] * DENSITY for kind, length in LAYOUTS["full"])
+    assert residence.holdup.mean == pytest.approx(holdup, rel=1e-5)
+    assert abs(residence.outflow.mean - FEED_KG_H) < residence.outflow.half_width
+    tau, half_width = residence.mass_balance()
+    assert tau == pytest.approx(holdup / (FEED_KG_H / 3600), rel=0.01)
+    assert 0 < half_width < 0.01 * tau
+    assert "hold-up / throughput" in residence.text()
+
+
+def test_mean_residence_time_needs_particles_leaving(runs):
+    with pytest.raises(AnalysisInputError, match="left through the outlet after 5 s"):
+        machine_residence(runs / "full", 5.0)
+
+
+def test_the_command_line_writes_the_table_and_both_figures(runs, tmp_path):
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ANALYSIS_DIR), os.environ.get("PYTHONPATH", "")]))
+    command = [sys.executable, "-m", "tsg_analysis", "domains", str(runs / "full"), "--full-start", str(STEADY)]
+    holdup_only = subprocess.run([*command, "--periodic-zones", str(runs / "periodic-1" / "zones.txt")],
+                                 capture_output=True, text=True, env=env)
+    assert holdup_only.returncode == 0, holdup_only.stderr
+    assert "hold-up on the periodic domain's elements" in holdup_only.stdout
+    assert "Mean residence time of the full granulator" in holdup_only.stdout
+    periodic = ",".join(str(runs / f"periodic-{s}") for s in (1, 2, 3))
+    full = subprocess.run([*command, "--periodic", periodic, "--periodic-start", str(STEADY), "--out", str(tmp_path)],
+                          capture_output=True, text=True, env=env)
+    assert full.returncode == 0, full.stderr
+    assert "hold-up / throughput" in (tmp_path / "domains.md").read_text(encoding="utf-8")
+    for figure in ("rtd.png", "elements.png"):
+        assert (tmp_path / figure).stat().st_size > 10_000, figure
