@@ -9,12 +9,22 @@ the two element by element. Here:
   shorter than the full machine's conveying elements around the block (29.2 against 37.5 mm): their
   mass is taken in proportion to length, i.e. as uniformly filled along each such element.
 - `compare_domains`: each quantity of the periodic runs (replicas combined) against the full run's
-  on the aligned elements, difference ± 95 % interval: solid fraction, speed, axial velocity and the
-  mean time per passage of each element (from the residence records: a full run's particles pass the
-  block once, a periodic run's particles once per pass); the mass flow through the section (Σ m v_x
-  over the aligned elements / their length) against the periodic domain flux; and the distributions
-  of the time per passage of the kneading block and of the section (Kolmogorov–Smirnov distance, the
-  Fig. 8 analogue).
+  on the aligned elements, difference ± 95 % interval: solid fraction, speed, axial velocity; the
+  mass flow through the section (Σ m v_x over the aligned elements / their length) against the
+  periodic domain flux; the mean time per passage of each element, of the kneading block and of the
+  section two ways; and the distributions of the time per passage of the kneading block and of the
+  section (Kolmogorov–Smirnov distance, the Fig. 8 analogue).
+- Time per passage, always over the periodic domain's element lengths (the full machine's longer
+  conveying elements count in proportion to length, as for the hold-up):
+  - by mass balance, hold-up / net flux = L Σ m / Σ m v_x (Little's law; time-series ratio), from
+    the element statistics, available whenever the net flux is forward;
+  - from the residence records (a full run's particles pass the section once, a periodic run's once
+    per pass). A record is written only when it closes — a full run's when the particle leaves the
+    machine, a periodic run's when it completes a pass of the domain — so a run that is short against
+    that time holds only the fast particles (truncation: in a full run still filling, the first
+    particles out are the front). Records count only from RECORD_HORIZON of that time after the
+    first recorded entry on (the full machine's hold-up / throughput; the periodic section's
+    balance time), and a run without such records is reported as too short, not estimated.
 - `machine_residence`: the full granulator's mean residence time two ways — the mean over the outlet
   records of the window, and the mass balance τ = M / ṁ (hold-up over throughput; Little's law, exact
   for any steady flow). The records lag: a particle leaving early in the window entered about τ
@@ -32,12 +42,14 @@ import numpy as np
 
 from .accuracy import SPEED, aligned_labels, block_times, key_estimates
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
-from .rtd import RTDComparison, compare_rtds, mean_residence
+from .rtd import MIN_RECORDS, RTDComparison, compare_rtds, mean_residence
 from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, read_residence, read_zones
-from .uncertainty import Difference, Estimate, combine_replicas, difference, estimate_mean, format_interval
+from .uncertainty import Difference, Estimate, combine_replicas, difference, estimate_mean, estimate_ratio, format_interval
 
 SECONDS_PER_HOUR = 3600.0
-TIME_PER_PASSAGE = "time per passage"
+TIME_PER_PASSAGE = "time per passage"                 # from the residence records
+TIME_BY_BALANCE = "time per passage, hold-up / flux"  # Little's law on the element statistics
+RECORD_HORIZON = 3.0  # record times after the first entry; a Gamma(2)-distributed time exceeds 3 means with 1.7 %
 SECTION_FLUX = "flux through the section Σ m v_x / L"
 KNEADING_BLOCK = "kneading block"
 SECTION = "section"
@@ -93,13 +105,32 @@ def _section_flux(full_run: Path, periodic: Zones, start: float) -> Estimate:
     return estimate_mean(momentum.sum(axis=1) / length * SECONDS_PER_HOUR, times, float(times[0]))
 
 
-def passage_times(run_dir: Path, zone_indices: Sequence[int], start: float) -> np.ndarray:
-    """Per complete record ending after `start` s (outlet or periodic pass), the time spent in the
-    given zones together (s), in exit order."""
+def passage_times(run_dir: Path, zone_indices: Sequence[int], start: float, weights: np.ndarray | None = None,
+                  horizon: float = 0.0) -> np.ndarray:
+    """Per complete record ending after `start` s (outlet or periodic pass) and at least `horizon` s
+    after the first recorded entry, the time spent in the given zones together (s; each zone's time
+    times its weight), in exit order."""
     records = read_residence(run_dir / "residence.txt")
-    complete = np.isin(records.exit_reason, RTD_EXIT_REASONS) & (records.exit_time > start)
+    if not len(records.exit_time):
+        return np.zeros(0)
+    origin = float(records.entry_time.min())
+    complete = (np.isin(records.exit_reason, RTD_EXIT_REASONS) & (records.exit_time > start)
+                & (records.exit_time >= origin + horizon))
     order = np.argsort(records.exit_time[complete], kind="stable")
-    return records.time_by_zone[complete][:, list(zone_indices)].sum(axis=1)[order]
+    chosen = records.time_by_zone[complete][:, list(zone_indices)]
+    scale = np.ones(len(zone_indices)) if weights is None else np.asarray(weights, dtype=float)
+    return (chosen @ scale)[order]
+
+
+def balance_passage(run_dir: Path, zone_indices: Sequence[int], weights: Sequence[float] | np.ndarray, length: float,
+                    start: float) -> Estimate:
+    """Mean time per passage (s) of the zones together by mass balance: length × Σ m / Σ m v_x over
+    the blocks from `start` on, each zone's mass times its weight; nan when the net flux is not forward."""
+    stats = read_element_statistics(run_dir / "elements.txt")
+    used, times = _steady_blocks(run_dir, start)
+    mass = stats.column("mass")[used][:, list(zone_indices)] * np.asarray(weights, dtype=float)
+    momentum = mass * stats.column("mean_axial_velocity")[used][:, list(zone_indices)]
+    return estimate_ratio(length * mass.sum(axis=1), momentum.sum(axis=1), detect=False)
 
 
 def _passage_estimate(samples: np.ndarray) -> Estimate:
@@ -155,6 +186,7 @@ class DomainComparison:
     holdup: Estimate                          # the full run's section hold-up, kg
     periodic_holdup: float                    # the periodic runs' mass, kg
     residence: MachineResidence               # the full granulator's mean residence time
+    records_truncated: dict[str, str]         # run -> the time after the first entry it has no records past
 
 
 def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: float,
@@ -177,25 +209,46 @@ def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: f
     kneading = [j for j, kind in enumerate(periodic_zones.kind) if kind == "kneading"]
     scopes = {KNEADING_BLOCK: kneading, SECTION: list(range(len(periodic_zones))),
               **{label: [j] for j, label in enumerate(periodic_zones.labels)}}
+    periodic_length = periodic_zones.x_end - periodic_zones.x_start
+    share = periodic_length / (full_zones.x_end - full_zones.x_start)[index]   # the full run's zones, scaled
     samples: dict[str, dict[str, np.ndarray]] = {"full": {}, "periodic": {}}
+    residence = machine_residence(full_run, full_start)
+    full_horizon = RECORD_HORIZON * residence.mass_balance()[0]
+    periodic_horizons = [RECORD_HORIZON * balance_passage(d, scopes[SECTION], np.ones(len(periodic_zones)),
+                                                          float(periodic_length.sum()), periodic_start).mean
+                         for d in periodic_runs]
     for scope, zones in scopes.items():
-        samples["full"][scope] = passage_times(full_run, [index[j] for j in zones], full_start)
-        samples["periodic"][scope] = np.concatenate([passage_times(d, zones, periodic_start) for d in periodic_runs])
+        length = float(periodic_length[zones].sum())
+        full_balance = balance_passage(full_run, [index[j] for j in zones], share[zones], length, full_start)
+        periodic_balance = combine_replicas([balance_passage(d, zones, np.ones(len(zones)), length, periodic_start)
+                                             for d in periodic_runs])
+        rows.append(DomainRow(TIME_BY_BALANCE, scope, full_balance, periodic_balance,
+                              difference(full_balance, periodic_balance)))
+        samples["full"][scope] = passage_times(full_run, [index[j] for j in zones], full_start, share[zones], full_horizon)
+        by_run = [passage_times(d, zones, periodic_start, horizon=h) for d, h in zip(periodic_runs, periodic_horizons)]
+        samples["periodic"][scope] = np.concatenate(by_run)
+        if scope == SECTION:
+            section_by_run = by_run
+        if len(samples["full"][scope]) < 2 or all(len(t) < 2 for t in by_run):
+            continue
         full_time = _passage_estimate(samples["full"][scope])
-        periodic_time = combine_replicas([_passage_estimate(passage_times(d, zones, periodic_start))
-                                          for d in periodic_runs])
+        periodic_time = combine_replicas([_passage_estimate(t) for t in by_run if len(t) >= 2])
         rows.append(DomainRow(TIME_PER_PASSAGE, scope, full_time, periodic_time, difference(full_time, periodic_time)))
+    truncated = {"full": f"{full_horizon:.3g} s"} if len(samples["full"][SECTION]) < 2 else {}
+    truncated.update({str(d): f"{h:.3g} s" for d, h, times in zip(periodic_runs, periodic_horizons, section_by_run)
+                      if len(times) < 2})
     rtds = [compare_rtds(samples["full"][scope], samples["periodic"][scope], scope)
             for scope in (KNEADING_BLOCK, SECTION)
-            if len(samples["full"][scope]) > 1 and len(samples["periodic"][scope]) > 1]
+            if min(len(samples["full"][scope]), len(samples["periodic"][scope])) >= MIN_RECORDS]
     masses = [float(read_element_statistics(d / "elements.txt").column("mass")[-1].sum()) for d in periodic_runs]
     return DomainComparison(rows, rtds, {"full": {s: samples["full"][s] for s in (KNEADING_BLOCK, SECTION)},
                                          "periodic": {s: samples["periodic"][s] for s in (KNEADING_BLOCK, SECTION)}},
                             section_holdup(full_run, periodic_zones, full_start), float(np.mean(masses)),
-                            machine_residence(full_run, full_start))
+                            residence, truncated)
 
 
-UNITS = {MASS_FLOW: "kg/h", SOLID_FRACTION: "-", SPEED: "m/s", AXIAL_VELOCITY: "m/s", TIME_PER_PASSAGE: "s"}
+UNITS = {MASS_FLOW: "kg/h", SOLID_FRACTION: "-", SPEED: "m/s", AXIAL_VELOCITY: "m/s", TIME_PER_PASSAGE: "s",
+         TIME_BY_BALANCE: "s"}
 
 
 def domains_markdown(comparison: DomainComparison) -> str:
@@ -208,8 +261,14 @@ def domains_markdown(comparison: DomainComparison) -> str:
         relative = f" ({r.difference.value / r.full.mean:+.0%})" if r.full.mean else ""
         lines.append(f"| {r.quantity} ({unit}) | {r.scope} | {r.full.text()} | {r.periodic.text()} | "
                      f"{r.difference.text(unit)}{relative} | {'yes' if r.difference.significant else 'no'} |")
-    lines += ["", "| time per passage of | KS distance | mean, periodic against full | agree (KS ≤ threshold) |",
-              "|---|---|---|---|"]
-    lines += [f"| {c.scope} | {c.ks_distance:.3f} | {c.mean_difference:+.0%} | {'yes' if c.agree else 'no'} |"
-              for c in comparison.rtds]
+    if comparison.records_truncated:
+        runs = ", ".join(f"{run} (ends before {after} after its first entry)" for run, after in comparison.records_truncated.items())
+        lines += ["", f"Time per passage from the records: too short a record in {runs}. A record is written when the "
+                      f"particle leaves the full machine (periodic: completes a pass), so only records from {RECORD_HORIZON:g} "
+                      "such times after the first entry on are free of the bias towards fast particles."]
+    if comparison.rtds:
+        lines += ["", "| time per passage of | KS distance | mean, periodic against full | agree (KS ≤ threshold) |",
+                  "|---|---|---|---|"]
+        lines += [f"| {c.scope} | {c.ks_distance:.3f} | {c.mean_difference:+.0%} | {'yes' if c.agree else 'no'} |"
+                  for c in comparison.rtds]
     return "\n".join(lines) + "\n"

@@ -62,8 +62,10 @@ def plot_rtd(path: Path, label: str, samples: dict[str, np.ndarray], stats: dict
 
 def plot_rtd_comparison(path: Path, runs: list[tuple[str, dict[str, np.ndarray]]],
                         comparisons: dict[tuple[str, str], RTDComparison]) -> Path:
-    """E(t) of every run on common bins, one panel per scope (seed Fig. 8)."""
-    scopes = [scope for scope in runs[0][1] if all(scope in samples for _, samples in runs)]
+    """E(t) of every run on common bins, one panel per scope that every run has times for (seed Fig. 8)."""
+    scopes = [scope for scope in runs[0][1] if all(len(samples.get(scope, ())) >= 2 for _, samples in runs)]
+    if not scopes:
+        return _nothing_to_plot(path, "no scope with complete passes in every run")
     fig, axes = plt.subplots(1, len(scopes), figsize=(4.5 * len(scopes), 3.8), squeeze=False)
     for ax, scope in zip(axes[0], scopes):
         edges = histogram_edges(np.concatenate([samples[scope] for _, samples in runs]))

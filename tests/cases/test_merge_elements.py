@@ -1,0 +1,49 @@
+"""cases/slurm/merge-elements.sh: a segmented run's element statistics in one file, each sampled
+step once. A continued segment starts from a restart file older than the step its predecessor
+reached, so some steps are in two files; the later segment's rows must win (as the mass-flow and
+residence records, whose fixes drop what the killed segment wrote after the restart file)."""
+import os
+import subprocess
+from pathlib import Path
+
+ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+MERGE = ROOT / "cases" / "slurm" / "merge-elements.sh"
+HEADER = "# Time-averaged data for fix element_stats\n# TimeStep Number-of-rows\n# Row c_elements[1] c_elements[2]\n"
+
+
+def statistics(steps: range, value: float) -> str:
+    """Two zones per block; every row of a file carries `value` so that the merge shows its source."""
+    return HEADER + "".join(f"{step} 2\n1 {value} 0.5\n2 {value} 0.25\n" for step in steps)
+
+
+def blocks(path: Path) -> list[tuple[int, float]]:
+    out, step = [], None
+    for line in path.read_text().splitlines():
+        words = line.split()
+        if line.startswith("#"):
+            continue
+        if len(words) == 2:
+            step = int(words[0])
+        elif words[0] == "1":
+            out.append((step, float(words[1])))
+    return out
+
+
+def test_overlapping_segments_keep_the_later_rows_once(tmp_path):
+    (tmp_path / "elements.upto-700.txt").write_text(statistics(range(100, 701, 100), 1.0))
+    (tmp_path / "elements.upto-1300.txt").write_text(statistics(range(500, 1301, 100), 2.0))  # from restart.500
+    (tmp_path / "elements.upto-1400.txt").write_text(HEADER)  # a segment killed before its first sample
+    (tmp_path / "elements.txt").write_text(statistics(range(1200, 1601, 100), 3.0))           # from restart.1200
+    subprocess.run([str(MERGE), str(tmp_path)], check=True)
+    assert blocks(tmp_path / "elements.txt") == (
+        [(s, 1.0) for s in range(100, 500, 100)] + [(s, 2.0) for s in range(500, 1200, 100)]
+        + [(s, 3.0) for s in range(1200, 1601, 100)])
+    assert (tmp_path / "elements.txt").read_text().startswith(HEADER)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["elements.txt"]
+
+
+def test_a_run_in_one_piece_is_left_as_it_is(tmp_path):
+    text = statistics(range(100, 501, 100), 1.0)
+    (tmp_path / "elements.txt").write_text(text)
+    subprocess.run([str(MERGE), str(tmp_path)], check=True)
+    assert (tmp_path / "elements.txt").read_text() == text
