@@ -18,9 +18,10 @@ python="$repo/.venv/bin/python"
 if [ "${1:-}" = "--keep" ]; then   # the latest restart file and the outputs, compressed into docs/
   latest=$(find "$out" -maxdepth 1 -name 'restart.[0-9]*' -printf '%f\n' | sort -t. -k2 -n | tail -1)
   [ -n "$latest" ] || { echo "no restart file in $out" >&2; exit 1; }
-  rm -f "$kept"/restart.*.xz
+  "$repo/cases/slurm/merge-elements.sh" "$out"   # one elements.txt: what the analysis reads
+  rm -f "$kept"/*.xz
   xz -T2 -6 -c "$out/$latest" > "$kept/$latest.xz"
-  for f in log.lammps massflow.txt residence.txt elements.txt $(cd "$out" && ls elements.upto-*.txt 2>/dev/null); do
+  for f in log.lammps massflow.txt residence.txt elements.txt $(cd "$out" && ls log.upto-*.lammps); do
     xz -c "$out/$f" > "$kept/$f.xz"
   done
   cp "$out"/{feed.in,phase.in,params.json,zones.txt,machine.in,holdup.txt} "$kept"/

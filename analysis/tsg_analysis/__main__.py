@@ -146,7 +146,7 @@ def _start(option: str, text: str, run_dir: Path) -> float:
 
 def _domains(args: argparse.Namespace) -> int:
     from .accuracy import SPEED
-    from .domains import TIME_PER_PASSAGE, compare_domains, domains_markdown, machine_residence, section_holdup
+    from .domains import TIME_BY_BALANCE, UNITS, compare_domains, domains_markdown, machine_residence, section_holdup
     from .figures import plot_domain_elements, plot_rtd_comparison
     from .model import AXIAL_VELOCITY, SOLID_FRACTION
     from .run_files import read_zones
@@ -174,7 +174,8 @@ def _domains(args: argparse.Namespace) -> int:
     (args.out / "domains.md").write_text(text)
     plot_rtd_comparison(args.out / "rtd.png", [(label, samples) for label, samples in comparison.samples.items()],
                         {("periodic", c.scope): c for c in comparison.rtds})
-    plot_domain_elements(args.out / "elements.png", comparison.rows, (SOLID_FRACTION, SPEED, AXIAL_VELOCITY, TIME_PER_PASSAGE))
+    plot_domain_elements(args.out / "elements.png", comparison.rows, (SOLID_FRACTION, SPEED, AXIAL_VELOCITY, TIME_BY_BALANCE),
+                         UNITS)
     print(text + f"\nwritten: {args.out}/domains.md, rtd.png, elements.png")
     return 0
 

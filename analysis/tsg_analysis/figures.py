@@ -279,7 +279,7 @@ def plot_element_panels(path: Path, rows: Sequence, quantities: Sequence[str]) -
     return _save(fig, path)
 
 
-def plot_domain_elements(path: Path, rows: Sequence, quantities: Sequence[str]) -> Path:
+def plot_domain_elements(path: Path, rows: Sequence, quantities: Sequence[str], units: dict[str, str]) -> Path:
     """The periodic sub-domain against the full granulator element by element (seed Fig. 9): one
     panel per quantity, bars: 95 % intervals (hollow: not resolved). `rows`: domains.DomainRow."""
     scopes = list(dict.fromkeys(r.scope for r in rows if r.scope[:1] in ("C", "K") and r.scope[1:].isdigit()))
@@ -294,7 +294,7 @@ def plot_domain_elements(path: Path, rows: Sequence, quantities: Sequence[str]) 
                         fmt="-o", ms=4, capsize=2, lw=1, label=side,
                         mfc="none" if not all(e.resolved for e in values) else None)
         ax.set_xticks(range(len(scopes)), scopes)
-        ax.set_title(quantity)
+        ax.set_title(f"{quantity} ({units[quantity]})", fontsize=10)
         ax.grid(alpha=0.3)
     axes[0][0].legend(fontsize=8)
     fig.tight_layout()

@@ -15,7 +15,7 @@
 #    elements.upto-<step>.txt (LIGGGHTS would overwrite them); residence and mass-flow records
 #    continue in their files (the fixes append after a restart).
 # 4. After lmp: TSG-DONE in the log -> DONE, the element statistics of all segments merged into
-#    elements.txt, older restart files removed; an ERROR -> FAILED (the successor exits at once);
+#    elements.txt (merge-elements.sh: where segments overlap, the later one's rows), older restart files removed; an ERROR -> FAILED (the successor exits at once);
 #    the same restart file chosen twice in a row -> FAILED (no progress within one job).
 #
 # Environment: TSG_OUT (default runs/<case>-cluster), TSG_LMP (default build/lmp), TSG_LAUNCH (the MPI
@@ -75,13 +75,7 @@ fi
   "${vars[@]}" ${TSG_VARS:-}) || true
 
 if grep -q '^TSG-DONE' "$out/log.lammps" 2>/dev/null; then
-  parts=$(find "$out" -maxdepth 1 -name 'elements.upto-*.txt' -printf '%f\n' | sort -t- -k2 -n | sed "s|^|$out/|")
-  if [ -n "$parts" ]; then   # one file, each sampled step once (a segment repeats its first step)
-    # shellcheck disable=SC2086
-    awk 'FNR <= 3 { if (NR == FNR) print; next }
-         NF == 2 { keep = !($1 in seen); seen[$1] = 1 }
-         keep' $parts "$out/elements.txt" > "$out/elements.merged" && mv "$out/elements.merged" "$out/elements.txt"
-  fi
+  "$repo/cases/slurm/merge-elements.sh" "$out"   # one elements.txt, each sampled step once
   find "$out" -maxdepth 1 -name 'restart.*' -delete
   touch "$out/DONE"
   say "run finished: $out (the successor finds DONE and exits)"
