@@ -62,14 +62,15 @@ def plot_rtd(path: Path, label: str, samples: dict[str, np.ndarray], stats: dict
 
 def plot_rtd_comparison(path: Path, runs: list[tuple[str, dict[str, np.ndarray]]],
                         comparisons: dict[tuple[str, str], RTDComparison]) -> Path:
-    """E(t) of every run on common bins, one panel per scope that every run has times for (seed Fig. 8)."""
-    scopes = [scope for scope in runs[0][1] if all(len(samples.get(scope, ())) >= 2 for _, samples in runs)]
+    """E(t) of every run on common bins, one panel per scope that a run has times for (seed Fig. 8)."""
+    scopes = list(dict.fromkeys(scope for _, samples in runs for scope, times in samples.items() if len(times) >= 2))
     if not scopes:
-        return _nothing_to_plot(path, "no scope with complete passes in every run")
+        return _nothing_to_plot(path, "no scope with complete passes in any run")
     fig, axes = plt.subplots(1, len(scopes), figsize=(4.5 * len(scopes), 3.8), squeeze=False)
     for ax, scope in zip(axes[0], scopes):
-        edges = histogram_edges(np.concatenate([samples[scope] for _, samples in runs]))
-        for label, samples in runs:
+        having = [(label, samples) for label, samples in runs if len(samples.get(scope, ())) >= 2]
+        edges = histogram_edges(np.concatenate([samples[scope] for _, samples in having]))
+        for label, samples in having:
             histogram = rtd_histogram(samples[scope], edges)
             comparison = comparisons.get((label, scope))
             suffix = "" if comparison is None else f" (KS D = {comparison.ks_distance:.3f})"

@@ -144,3 +144,13 @@ def test_records_too_short_against_their_closing_time_are_not_estimated(runs):
     # the same records without the horizon: the fast passes, a number that would be biased
     assert len(passage_times(runs / "periodic-1", range(8), STEADY)) > 0
     assert len(passage_times(runs / "periodic-1", range(8), STEADY, horizon=RECORD_HORIZON * 0.6942)) == 0
+
+
+def test_a_side_with_records_is_reported_when_the_other_has_none(runs, monkeypatch):
+    # half a closing time: past the full fixture's record end (4.9 s / 2), not the periodic's (0.69 s / 2)
+    monkeypatch.setattr(domains, "RECORD_HORIZON", 0.5)
+    comparison = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
+    row = {(r.quantity, r.scope): r for r in comparison.rows}[(TIME_PER_PASSAGE, KNEADING_BLOCK)]
+    assert np.isnan(row.full.mean) and np.isfinite(row.periodic.mean)
+    assert not row.difference.significant
+    assert list(comparison.records_truncated) == ["full"]
