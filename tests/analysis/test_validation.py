@@ -82,7 +82,7 @@ def test_sweep_with_replicas_reports_differences_and_directions(tmp_path):
         (run_dir / "elements.txt").write_text("\n".join(lines) + "\n")
         if name != "cohesion-high/seed-3":  # a run that has not finished is left out
             (run_dir / "DONE").touch()
-    proc = subprocess.run([*sweep, "report", str(tmp_path)], capture_output=True, text=True, env=env)
+    proc = subprocess.run([*sweep, "report", str(tmp_path)], capture_output=True, text=True, encoding="utf-8", env=env)
     assert proc.returncode == 0, proc.stderr
     assert "reference 3/3, static-friction-0.1 3/3, cohesion-high 2/3" in proc.stdout
     assert "| static-friction-0.1 | mass flow domain flux Σ m v_x / L | + | + | yes |" in proc.stdout
@@ -135,7 +135,7 @@ def test_report_window_starts_after_the_start_up(tmp_path):
         (run_dir / "DONE").touch()
 
     def flux_change(*options: str) -> float:
-        proc = subprocess.run([*sweep, "report", str(tmp_path), *options], capture_output=True, text=True, env=env)
+        proc = subprocess.run([*sweep, "report", str(tmp_path), *options], capture_output=True, text=True, encoding="utf-8", env=env)
         assert proc.returncode == 0, proc.stderr
         found = re.search(r"\| static-friction-0.1 \| mass flow domain flux Σ m v_x / L \| [^|]+ \| [^|]+ \| [^|]+ \| "
                           r"domain flux Σ m v_x / L ([+-]\d+)%", proc.stdout)
@@ -149,5 +149,5 @@ def test_report_window_starts_after_the_start_up(tmp_path):
     assert 45 <= flux_change("--start", "auto") <= 55
     assert "the latest detected steady start" in (tmp_path / "report" / "parts.md").read_text()
     for bad, why in (("-1", "a time in s >= 0"), ("soon", "a time in s >= 0"), ("5", "too few")):
-        proc = subprocess.run([*sweep, "report", str(tmp_path), "--start", bad], capture_output=True, text=True, env=env)
+        proc = subprocess.run([*sweep, "report", str(tmp_path), "--start", bad], capture_output=True, text=True, encoding="utf-8", env=env)
         assert proc.returncode == 2 and why in proc.stderr, proc.stderr
