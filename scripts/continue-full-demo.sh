@@ -7,7 +7,8 @@
 #   scripts/continue-full-demo.sh --keep       # compress the run's latest state back into docs/
 #
 # The run stops by itself at t_sample after its (spurious, at 0.99 s) in-script steady state; the
-# steady window is chosen afterwards: python -m tsg_analysis domains ... --full-start auto.
+# steady window is chosen afterwards: python -m tsg_analysis domains ... --full-start auto (it refuses a
+# record that is not yet steady for long enough).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 kept="$repo/docs/validation/full-demo-d15"

@@ -146,25 +146,28 @@ def _start(option: str, text: str, run_dir: Path) -> float:
 
 def _domains(args: argparse.Namespace) -> int:
     from .accuracy import SPEED
-    from .domains import TIME_BY_BALANCE, UNITS, compare_domains, domains_markdown, machine_residence, section_holdup
+    from .domains import TIME_BY_BALANCE, UNITS, compare_domains, domains_markdown, full_steady_start, machine_residence, section_holdup
     from .figures import plot_domain_elements, plot_rtd_comparison
     from .model import AXIAL_VELOCITY, SOLID_FRACTION
     from .run_files import read_zones
 
     if not args.full_run.is_dir():
         raise UsageError(f"full_run {args.full_run}: no such directory")
-    full_start = _start("--full-start", args.full_start, args.full_run)
+    if args.periodic is None and args.periodic_zones is None:
+        raise UsageError("domains: give --periodic a,b,c (runs to compare) or --periodic-zones FILE (the hold-up only)")
+    periodic = _replicas(args.periodic) if args.periodic is not None else []
+    section = read_zones(args.periodic_zones if args.periodic is None else periodic[0] / "zones.txt")
+    # the full run fills from empty: its steady start is found on the section's hold-up and flux
+    full_start = (full_steady_start(args.full_run, section) if args.full_start == "auto"
+                  else _start("--full-start", args.full_start, args.full_run))
     if args.periodic is None:
-        if args.periodic_zones is None:
-            raise UsageError("domains: give --periodic a,b,c (runs to compare) or --periodic-zones FILE (the hold-up only)")
-        holdup = section_holdup(args.full_run, read_zones(args.periodic_zones), full_start)
+        holdup = section_holdup(args.full_run, section, full_start)
         print(f"hold-up on the periodic domain's elements from t = {full_start:.4g} s: {holdup.mean * 1e3:.4g} g "
               f"(in kg: {holdup.text('kg')})")
         print(machine_residence(args.full_run, full_start).text())
         return 0
     if args.out is None:
         raise UsageError("domains --periodic: give --out DIR for the table and the figure")
-    periodic = _replicas(args.periodic)
     starts = [_start("--periodic-start", args.periodic_start, d) for d in periodic]
     comparison = compare_domains(args.full_run, periodic, full_start, max(starts))
     args.out.mkdir(parents=True, exist_ok=True)
@@ -221,7 +224,10 @@ def parser() -> argparse.ArgumentParser:
     domains.add_argument("--periodic", help="periodic run directories, replicas comma-separated (a,b,c)")
     domains.add_argument("--periodic-zones", type=Path, help="zones.txt of the periodic domain (hold-up only)")
     domains.add_argument("--out", type=Path, help="output directory for domains.md, rtd.png and elements.png")
-    domains.add_argument("--full-start", default="auto", help="steady start of the full run, s, or auto")
+    domains.add_argument("--full-start", default="auto",
+                         help="steady start of the full run, s, or auto: the later of the starts of stationarity of the "
+                              "hold-up and the flux on the periodic domain's section, refused when fewer than 20 "
+                              "independent samples of the hold-up follow")
     domains.add_argument("--periodic-start", default="auto", help="steady start of the periodic runs, s, or auto")
     domains.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     return main_parser

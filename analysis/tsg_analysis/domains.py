@@ -44,7 +44,18 @@ from .accuracy import SPEED, aligned_labels, block_times, key_estimates
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
 from .rtd import MIN_RECORDS, RTDComparison, compare_rtds, mean_residence
 from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, read_residence, read_zones
-from .uncertainty import Difference, Estimate, combine_replicas, difference, estimate_mean, estimate_ratio, format_interval
+from .uncertainty import (
+    MIN_INDEPENDENT,
+    Difference,
+    Estimate,
+    combine_replicas,
+    detect_start,
+    difference,
+    estimate_mean,
+    estimate_ratio,
+    format_interval,
+    statistical_inefficiency,
+)
 
 SECONDS_PER_HOUR = 3600.0
 TIME_PER_PASSAGE = "time per passage"                 # from the residence records
@@ -81,6 +92,56 @@ def _steady_blocks(run_dir: Path, start: float) -> tuple[np.ndarray, np.ndarray]
     if used.sum() < 2:
         raise AnalysisInputError(f"{run_dir}: fewer than 2 element blocks from {start} s")
     return used, ends[used]
+
+
+FILLING_WITHIN = 0.75   # a filling run's steady window keeps at least the last quarter of its record
+
+
+def filling_steady_start(holdup: np.ndarray, flux: np.ndarray, times: np.ndarray,
+                         min_independent: float = MIN_INDEPENDENT) -> float:
+    """When a run that fills from empty has become steady (s): the later of the starts of
+    stationarity of its hold-up and of its flux (uncertainty.detect_start with the origin in the
+    first FILLING_WITHIN of the record: the filling may take more than half of it, and a window of
+    the last few samples of a record that is still filling would look steady to the drift test). Raises ValueError when the window from
+    there keeps fewer than `min_independent` independent samples of the hold-up, or when the hold-up's
+    two halves of that window differ (uncertainty's drift test), so that a run still filling, or only
+    just steady, is refused rather than averaged over its filling."""
+    holdup_start = detect_start(holdup, times, within=FILLING_WITHIN)
+    flux_start = detect_start(flux, times, within=FILLING_WITHIN)
+    if holdup_start is None or flux_start is None:
+        raise ValueError(f"{len(times)} element blocks: too short a record to detect a steady state")
+    start = max(holdup_start, flux_start)
+    window = np.asarray(holdup)[np.asarray(times) >= start]
+    independent = len(window) / statistical_inefficiency(window) if len(window) > 1 else 0.0
+    if not independent >= min_independent:
+        raise ValueError(f"the hold-up is stationary from t = {holdup_start:.4g} s and the flux from {flux_start:.4g} s, "
+                         f"which leaves {independent:.1f} independent samples of the hold-up to the end of the record "
+                         f"(t = {float(times[-1]):.4g} s; {min_independent:g} needed): run it longer, or give the "
+                         "start by hand")
+    drift = estimate_mean(window).drift
+    if drift is not False:
+        halves = np.array_split(window, 2)
+        raise ValueError(f"the hold-up from t = {start:.4g} s to the end of the record (t = {float(times[-1]):.4g} s) "
+                         + ("still changes: " if drift else "cannot be shown to be steady: ")
+                         + f"{float(halves[0].mean()):.4g} in its first half, {float(halves[1].mean()):.4g} in its "
+                         "second: run it longer, or give the start by hand")
+    return start
+
+
+def full_steady_start(full_run: Path, periodic: Zones) -> float:
+    """The full run's steady start on the periodic domain's section: filling_steady_start of the
+    section's hold-up and flux (AnalysisInputError naming the run when there is none yet)."""
+    full = read_zones(full_run / "zones.txt")
+    index = section_indices(full, periodic)
+    stats = read_element_statistics(full_run / "elements.txt")
+    used, times = _steady_blocks(full_run, 0.0)
+    mass = stats.column("mass")[used][:, index]
+    share = (periodic.x_end - periodic.x_start) / (full.x_end - full.x_start)[index]
+    momentum = mass * stats.column("mean_axial_velocity")[used][:, index]
+    try:
+        return filling_steady_start((mass * share).sum(axis=1), momentum.sum(axis=1), times, MIN_INDEPENDENT)
+    except ValueError as problem:
+        raise AnalysisInputError(f"{full_run}: no steady window on the periodic domain's section: {problem}") from None
 
 
 def section_holdup(full_run: Path, periodic: Zones, start: float) -> Estimate:

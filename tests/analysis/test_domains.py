@@ -154,3 +154,65 @@ def test_a_side_with_records_is_reported_when_the_other_has_none(runs, monkeypat
     assert np.isnan(row.full.mean) and np.isfinite(row.periodic.mean)
     assert not row.difference.significant
     assert list(comparison.records_truncated) == ["full"]
+
+
+# ---- the full run's steady start: a filling that lasts more than half the record -----------------
+
+def _filling(rng: np.random.Generator, blocks: int, fill_share: float, plateau: float = 3.8e-3,
+             noise: float = 0.05) -> tuple[np.ndarray, np.ndarray]:
+    """Hold-up that grows linearly over the first fill_share of the record, then stays at `plateau`
+    with AR(1) noise (correlation 0.8 between blocks); one block per 10 ms."""
+    times = 0.01 * np.arange(1, blocks + 1)
+    end = fill_share * times[-1]
+    noise_series = np.zeros(blocks)
+    for k in range(1, blocks):
+        noise_series[k] = 0.8 * noise_series[k - 1] + rng.normal(0.0, noise * plateau * 0.6)
+    return times, plateau * np.minimum(times / end, 1.0) + noise_series, end
+
+
+def test_the_steady_start_of_a_filling_run_is_found_past_its_first_half():
+    rng = np.random.default_rng(5)
+    times, holdup, filled = _filling(rng, 1500, 0.6)
+    flux = holdup * 1e3 + rng.normal(0.0, 0.1, len(times))   # flux follows the hold-up
+    start = domains.filling_steady_start(holdup, flux, times)
+    # the hold-up is full at `filled` (9 s of 15): the start is near it (the top of the ramp is within
+    # the noise), and not far after
+    assert filled - 0.9 <= start <= filled + 1.5, (start, filled)
+    # what the first-half search of the periodic runs (validation.steady_start) would pick: inside the filling
+    from tsg_analysis.uncertainty import detect_start
+    assert detect_start(holdup, times, within=0.5) < filled - 1.0
+
+
+def test_the_later_of_hold_up_and_flux_starts():
+    rng = np.random.default_rng(6)
+    times, holdup, filled = _filling(rng, 1500, 0.3)
+    _, flux, flux_filled = _filling(rng, 1500, 0.55, plateau=4.0)
+    start = domains.filling_steady_start(holdup, flux, times)
+    assert flux_filled - 0.9 <= start <= flux_filled + 1.5, (start, flux_filled)
+
+
+def test_a_run_still_filling_is_refused():
+    rng = np.random.default_rng(7)
+    for fill_share in (1.5, 0.99):   # two thirds full at the end of the record; full for its last 0.15 s
+        times, holdup, _ = _filling(rng, 1500, fill_share)
+        with pytest.raises(ValueError, match=r"independent samples of the hold-up .*run it longer"):
+            domains.filling_steady_start(holdup, holdup * 1e3, times)
+
+
+def test_a_hold_up_that_creeps_is_refused():
+    # no start-up to detect (white noise about a line), but 10 % more at the end than at the start:
+    # the two halves of the window differ
+    rng = np.random.default_rng(8)
+    times = 0.01 * np.arange(1, 1501)
+    holdup = 3.8e-3 * (1.0 + 0.1 * times / times[-1]) + rng.normal(0.0, 0.02 * 3.8e-3, len(times))
+    with pytest.raises(ValueError, match=r"still changes: .* in its first half, .* in its second"):
+        domains.filling_steady_start(holdup, holdup * 1e3, times)
+    flat = 3.8e-3 + rng.normal(0.0, 0.02 * 3.8e-3, len(times))   # the same without the creep: accepted
+    assert domains.filling_steady_start(flat, flat * 1e3, times) < 0.5 * times[-1]
+
+
+def test_auto_full_start_names_the_run_when_it_refuses(runs, monkeypatch):
+    periodic = read_zones(runs / "periodic-1" / "zones.txt")
+    monkeypatch.setattr(domains, "MIN_INDEPENDENT", 1e9)   # no record is long enough for this
+    with pytest.raises(AnalysisInputError, match="no steady window on the periodic domain's section"):
+        domains.full_steady_start(runs / "full", periodic)
