@@ -1,0 +1,80 @@
+"""Where the particles that hardly move along the axis sit, from two particle dumps of a periodic run.
+
+    .venv/bin/python scripts/slow-particles.py RUN_DIR [--first STEP] [--last STEP] [--slow-mm 5]
+
+Reads RUN_DIR/dumps/particles_<step>.vtk at the two steps (default: the last two dumps) and the
+machine (RUN_DIR/machine.in) and zones (RUN_DIR/zones.txt). A particle is slow when its axial
+displacement between the dumps (periodic images resolved by the smallest |Δx| modulo the domain
+length) is under --slow-mm. Printed per zone: particles, slow ones, and the share of each that lies
+in the flight-tip layer, farther from the nearer screw axis than the screw's outer radius (between
+the flight tips and the barrel), where a flight cannot push it. Written for docs/validation.md
+("the stagnant layer"); the particles of one dump are matched to the other's by id.
+"""
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
+from tsg_analysis.dumps import find_dump_files, read_vtk_dump, step_from_name  # noqa: E402
+from tsg_analysis.run_files import read_zones  # noqa: E402
+
+
+def machine_value(text: str, name: str) -> float:
+    found = re.search(rf"variable {name} equal (\S+)", text)
+    if found is None:
+        raise SystemExit(f"machine.in has no {name}")
+    return float(found.group(1))
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("run_dir", type=Path)
+    parser.add_argument("--first", type=int, help="step of the first dump (default: the last but one)")
+    parser.add_argument("--last", type=int, help="step of the second dump (default: the last)")
+    parser.add_argument("--slow-mm", type=float, default=5.0, help="axial displacement under which a particle is slow")
+    args = parser.parse_args(argv)
+    paths, _ = find_dump_files(args.run_dir)
+    by_step = {step_from_name(p): p for p in paths if p.name.startswith("particles_")}
+    steps = sorted(by_step)
+    if len(steps) < 2:
+        raise SystemExit(f"{args.run_dir}: fewer than two particle dumps")
+    first = args.first if args.first is not None else steps[-2]
+    last = args.last if args.last is not None else steps[-1]
+    a, b = read_vtk_dump(by_step[first]), read_vtk_dump(by_step[last])
+    machine = (args.run_dir / "machine.in").read_text()
+    zones = read_zones(args.run_dir / "zones.txt")
+    length = float(zones.x_end[-1] - zones.x_start[0])
+    outer = machine_value(machine, "screw_outer_radius")
+    axes = [(machine_value(machine, f"axis{k}_y"), machine_value(machine, "axis_z")) for k in (1, 2)]
+
+    order_a, order_b = np.argsort(a.columns["id"]), np.argsort(b.columns["id"])
+    ids = a.columns["id"][order_a]
+    if not np.array_equal(ids, b.columns["id"][order_b]):
+        raise SystemExit("the two dumps hold different particles")
+    xa, xb = a.columns["x"][order_a], b.columns["x"][order_b]
+    shift = np.remainder(xb - xa + length / 2, length) - length / 2   # the smallest periodic displacement
+    y, z = b.columns["y"][order_b], b.columns["z"][order_b]
+    nearest = np.min([np.hypot(y - ay, z - az) for ay, az in axes], axis=0)
+    in_tip_layer = nearest > outer
+    slow = np.abs(shift) < args.slow_mm * 1e-3
+    zone = np.searchsorted(zones.x_end, np.remainder(xb - zones.x_start[0], length) + zones.x_start[0], side="right")
+    print(f"{args.run_dir}: dumps at steps {first} and {last}; {len(ids)} particles; slow: |Δx| < {args.slow_mm} mm; "
+          f"tip layer: farther than {outer * 1e3:.2f} mm from the nearer screw axis")
+    print("| zone | particles | in the tip layer | slow | slow and in the tip layer |")
+    print("|---|---|---|---|---|")
+    for k, label in enumerate(zones.labels):
+        here = zone == k
+        print(f"| {label} | {here.sum()} | {in_tip_layer[here].mean():.0%} | {slow[here].sum()} | "
+              f"{in_tip_layer[here & slow].mean() if (here & slow).any() else float('nan'):.0%} |")
+    print(f"| all | {len(ids)} | {in_tip_layer.mean():.0%} | {slow.sum()} | "
+          f"{in_tip_layer[slow].mean() if slow.any() else float('nan'):.0%} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
