@@ -3,12 +3,15 @@
 # kept in docs/validation/full-demo-d15/ (its latest restart file and outputs, compressed), in
 # segments that each pick up from the latest restart file (cases/slurm/segment.sh).
 #
-#   scripts/continue-full-demo.sh [RANKS]      # default 2; run it again to go on after a stop
-#   scripts/continue-full-demo.sh --keep       # compress the run's latest state back into docs/
+#   scripts/continue-full-demo.sh [RANKS]             # default 2; run it again to go on after a stop
+#   scripts/continue-full-demo.sh RANKS --until T     # end at t = T s with a snapshot of the particles
+#                                                     # still inside (residence records "inside")
+#   scripts/continue-full-demo.sh --keep              # compress the run's latest state back into docs/
 #
 # The run stops by itself at t_sample after its (spurious, at 0.99 s) in-script steady state; the
 # steady window is chosen afterwards: python -m tsg_analysis domains ... --full-start auto (it refuses a
-# record that is not yet steady for long enough).
+# record that is not yet steady for long enough). The passes of the section (the RTDs) need the
+# snapshot at the end: stop a running continuation, then end it with --until.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 kept="$repo/docs/validation/full-demo-d15"
@@ -31,6 +34,10 @@ if [ "${1:-}" = "--keep" ]; then   # the latest restart file and the outputs, co
 fi
 
 ranks="${1:-2}"
+until=""
+if [ "${2:-}" = "--until" ]; then
+  until="${3:?--until needs a time in s}"
+fi
 [ -f "$mesh/zones.txt" ] || "$python" -m tsg_meshes build consigma1-full "$mesh" --tolerance 4e-06 \
   --clearance 0.0021 --screw-clearance 0.0042 --disc-gap 0.0021
 if [ ! -d "$out" ]; then   # unpack the kept state
@@ -38,11 +45,16 @@ if [ ! -d "$out" ]; then   # unpack the kept state
   cp "$kept"/{feed.in,phase.in,params.json,zones.txt,machine.in,holdup.txt} "$out"/
   for f in "$kept"/*.xz; do xz -dc "$f" > "$out/$(basename "$f" .xz)"; done
 fi
-vars=$("$python" - "$out" "$mesh" <<'PY'
-import json, sys
-out, mesh = sys.argv[1], sys.argv[2]
+vars=$("$python" - "$out" "$mesh" "$until" <<'PY'
+import json, re, sys
+out, mesh, until = sys.argv[1], sys.argv[2], sys.argv[3]
 given = json.load(open(f"{out}/params.json"))["variables"]
 given.update({"feed_file": f"{out}/feed.in", "mesh_dir": mesh})
+if until:   # the sampling window ends at T: t_sample from the in-script steady state's time
+    steady = float(re.search(r"t = (\S+) s", open(f"{out}/holdup.txt").readline()).group(1))
+    if not float(until) > steady:
+        sys.exit(f"--until {until} is not allowed: a time in s after the steady state at {steady:.6g} s")
+    given.update({"t_sample": f"{float(until) - steady:.9g}", "inside_records": "1"})
 skip = {"out_dir", "procs_x", "restart_every", "case_dir"}
 print(" ".join(f"-var {k} {v}" for k, v in given.items() if k not in skip))
 PY

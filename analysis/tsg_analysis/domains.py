@@ -18,13 +18,17 @@ the two element by element. Here:
   conveying elements count in proportion to length, as for the hold-up):
   - by mass balance, hold-up / net flux = L Σ m / Σ m v_x (Little's law; time-series ratio), from
     the element statistics, available whenever the net flux is forward;
-  - from the residence records (a full run's particles pass the section once, a periodic run's once
-    per pass). A record is written only when it closes — a full run's when the particle leaves the
-    machine, a periodic run's when it completes a pass of the domain — so a run that is short against
-    that time holds only the fast particles (truncation: in a full run still filling, the first
-    particles out are the front). Records count only from RECORD_HORIZON of that time after the
-    first recorded entry on (the full machine's hold-up / throughput; the periodic section's
-    balance time), and a run without such records is reported as too short, not estimated.
+  - from the residence records, as passes that end in a steady window: the distribution of the
+    times of the passes that end in a window of stationary flow is the distribution of the time per
+    passage, provided every pass that ends in the window is known and began after the flow became
+    stationary. A periodic run's record is written when its pass of the domain completes; its
+    passes count from RECORD_HORIZON balance times of the section after the first recorded entry
+    on (the fill starts every pass at once: earlier, only the fast ones have completed). A full
+    run's record is written when the particle leaves the machine, long after it left the section:
+    its passes of the section come from the outlet records together with the snapshot of the
+    particles still inside at the end (`full_passes`; the case's `-v inside_records 1`), and count
+    from RECORD_HORIZON balance times of the section after its steady start on. A run without such
+    passes is reported with the reason, not estimated.
 - `machine_residence`: the full granulator's mean residence time two ways — the mean over the outlet
   records of the window, and the mass balance τ = M / ṁ (hold-up over throughput; Little's law, exact
   for any steady flow). The records lag: a particle leaving early in the window entered about τ
@@ -183,6 +187,44 @@ def passage_times(run_dir: Path, zone_indices: Sequence[int], start: float, weig
     return (chosen @ scale)[order]
 
 
+@dataclass(frozen=True)
+class FullPasses:
+    """A full run's complete passes of a stretch of its zones that ended in a window."""
+    time_by_zone: np.ndarray  # (passes, zones of the run), s
+    exit_time: np.ndarray     # when each pass left the stretch, s (ascending)
+    snapshot: float           # the time of the snapshot of the particles still inside, s
+
+
+def full_passes(run_dir: Path, last_zone: int, after: float) -> FullPasses:
+    """The passes of the zones up to `last_zone` (an index of the run's zones) that ended after `after`
+    s and by the run's latest snapshot of the particles still inside ("inside" records).
+
+    A particle that left through the outlet by the snapshot has passed the stretch; one still inside
+    has, if it spent time downstream of the stretch. Between them they are every particle whose pass
+    ended by the snapshot, so no pass of the window is missing however long the particles take
+    downstream. A pass ends at entry + the time in the zones up to `last_zone`: exact for a particle
+    that did not return upstream after it first left the stretch (for one that did, earlier by its
+    time downstream before it returned). Outlet records after the snapshot (a run continued without a
+    new one) are left out."""
+    records = read_residence(run_dir / "residence.txt")
+    zones = read_zones(run_dir / "zones.txt")
+    inside = records.exit_reason == "inside"
+    if not inside.any():
+        raise AnalysisInputError(f"{run_dir}: no 'inside' records: the passes of the section are known only with a "
+                                 "snapshot of the particles still inside at the end (the full case's -v inside_records 1)")
+    snapshot = float(records.exit_time[inside].max())
+    latest = inside & np.isclose(records.exit_time, snapshot, rtol=0.0, atol=1e-9)
+    left = (records.exit_reason == "outlet") & (records.exit_time <= snapshot)
+    end = zones.x_end[last_zone]
+    downstream = zones.x_start >= end - 1e-9
+    upstream = zones.x_end <= end + 1e-9
+    passed = left | (latest & (records.time_by_zone[:, downstream].sum(axis=1) > 0.0))
+    exit_time = records.entry_time + records.time_by_zone[:, upstream].sum(axis=1)
+    chosen = passed & (exit_time > after) & (exit_time <= snapshot)
+    order = np.argsort(exit_time[chosen], kind="stable")
+    return FullPasses(records.time_by_zone[chosen][order], exit_time[chosen][order], snapshot)
+
+
 def balance_passage(run_dir: Path, zone_indices: Sequence[int], weights: Sequence[float] | np.ndarray, length: float,
                     start: float) -> Estimate:
     """Mean time per passage (s) of the zones together by mass balance: length × Σ m / Σ m v_x over
@@ -247,7 +289,7 @@ class DomainComparison:
     holdup: Estimate                          # the full run's section hold-up, kg
     periodic_holdup: float                    # the periodic runs' mass, kg
     residence: MachineResidence               # the full granulator's mean residence time
-    records_truncated: dict[str, str]         # run -> the time after the first entry it has no records past
+    records_truncated: dict[str, str]         # run -> why it has no passes to count
 
 
 def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: float,
@@ -274,9 +316,19 @@ def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: f
     share = periodic_length / (full_zones.x_end - full_zones.x_start)[index]   # the full run's zones, scaled
     samples: dict[str, dict[str, np.ndarray]] = {"full": {}, "periodic": {}}
     residence = machine_residence(full_run, full_start)
-    full_horizon = RECORD_HORIZON * residence.mass_balance()[0]
+    section_length = float(periodic_length.sum())
+    full_after = full_start + RECORD_HORIZON * balance_passage(full_run, index, share, section_length, full_start).mean
+    truncated: dict[str, str] = {}
+    try:
+        passes = full_passes(full_run, max(index), full_after)
+        if len(passes.exit_time) < 2:
+            truncated["full"] = (f"{len(passes.exit_time)} passes of the section ended between {full_after:.3g} s "
+                                 f"({RECORD_HORIZON:g} balance times of the section after the steady start) and the "
+                                 f"snapshot at {passes.snapshot:.3g} s")
+    except AnalysisInputError as missing:
+        passes, truncated["full"] = None, str(missing)
     periodic_horizons = [RECORD_HORIZON * balance_passage(d, scopes[SECTION], np.ones(len(periodic_zones)),
-                                                          float(periodic_length.sum()), periodic_start).mean
+                                                          section_length, periodic_start).mean
                          for d in periodic_runs]
     for scope, zones in scopes.items():
         length = float(periodic_length[zones].sum())
@@ -285,7 +337,8 @@ def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: f
                                              for d in periodic_runs])
         rows.append(DomainRow(TIME_BY_BALANCE, scope, full_balance, periodic_balance,
                               difference(full_balance, periodic_balance)))
-        samples["full"][scope] = passage_times(full_run, [index[j] for j in zones], full_start, share[zones], full_horizon)
+        samples["full"][scope] = (np.zeros(0) if passes is None or "full" in truncated
+                                  else passes.time_by_zone[:, [index[j] for j in zones]] @ share[zones])
         by_run = [passage_times(d, zones, periodic_start, horizon=h) for d, h in zip(periodic_runs, periodic_horizons)]
         samples["periodic"][scope] = np.concatenate(by_run)
         if scope == SECTION:
@@ -296,9 +349,9 @@ def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: f
         full_time = _passage_estimate(samples["full"][scope])
         periodic_time = combine_replicas([_passage_estimate(t) for t in by_run if len(t) >= 2] or [_passage_estimate(by_run[0])])
         rows.append(DomainRow(TIME_PER_PASSAGE, scope, full_time, periodic_time, difference(full_time, periodic_time)))
-    truncated = {"full": f"{full_horizon:.3g} s"} if len(samples["full"][SECTION]) < 2 else {}
-    truncated.update({str(d): f"{h:.3g} s" for d, h, times in zip(periodic_runs, periodic_horizons, section_by_run)
-                      if len(times) < 2})
+    truncated.update({str(d): (f"its records end before {h:.3g} s after its first entry ({RECORD_HORIZON:g} balance "
+                               "times of the section): only the fast passes would have completed")
+                      for d, h, times in zip(periodic_runs, periodic_horizons, section_by_run) if len(times) < 2})
     rtds = [compare_rtds(samples["full"][scope], samples["periodic"][scope], scope)
             for scope in (KNEADING_BLOCK, SECTION)
             if min(len(samples["full"][scope]), len(samples["periodic"][scope])) >= MIN_RECORDS]
@@ -324,10 +377,8 @@ def domains_markdown(comparison: DomainComparison) -> str:
         lines.append(f"| {r.quantity} ({unit}) | {r.scope} | {r.full.text()} | {r.periodic.text()} | "
                      f"{r.difference.text(unit)}{relative} | {'yes' if r.difference.significant else 'no'} |")
     if comparison.records_truncated:
-        runs = ", ".join(f"{run} (ends before {after} after its first entry)" for run, after in comparison.records_truncated.items())
-        lines += ["", f"Time per passage from the records: too short a record in {runs}. A record is written when the "
-                      f"particle leaves the full machine (periodic: completes a pass), so only records from {RECORD_HORIZON:g} "
-                      "such times after the first entry on are free of the bias towards fast particles."]
+        lines += ["", "Time per passage from the records: no passes counted for"]
+        lines += [f"- {run}: {why}" for run, why in comparison.records_truncated.items()]
     if comparison.rtds:
         lines += ["", "| time per passage of | KS distance | mean, periodic against full | agree (KS ≤ threshold) |",
                   "|---|---|---|---|"]

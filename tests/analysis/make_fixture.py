@@ -66,14 +66,18 @@ def _residence_text(rng: np.random.Generator, kind: str, zone_kinds: list[str], 
     exit_time = entry + residence
     reason = np.where(exit_time <= RECORD_END, "pass" if kind == "periodic" else "outlet", "inside").astype("<U7")
     still_inside = reason == "inside"
-    exit_time[still_inside] = RECORD_END  # records of particles still inside report the time so far
-    residence[still_inside] = RECORD_END - entry[still_inside]
     unlucky = rng.choice(np.flatnonzero(~still_inside), size=6, replace=False)
     reason[unlucky[:3]], reason[unlucky[3:]] = "deleted", "lost"
-    # split each residence time over the zones: kneading zones hold particles 3x longer per length
+    # split each residence time over the zones, crossed in order: kneading zones hold particles 3x
+    # longer per length
     weights = np.diff(zone_edges) * np.where(np.array(zone_kinds) == "kneading", 3.0, 1.0)
     shares = rng.dirichlet(200 * weights / weights.sum(), records)
     by_zone = residence[:, None] * shares
+    # a particle still inside at RECORD_END (a snapshot record) has crossed its zones up to then
+    exit_time[still_inside] = RECORD_END
+    residence[still_inside] = RECORD_END - entry[still_inside]
+    before = np.cumsum(by_zone, axis=1) - by_zone
+    by_zone[still_inside] = np.clip(residence[still_inside, None] - before[still_inside], 0.0, by_zone[still_inside])
     by_type = [by_zone[:, np.array(zone_kinds) == t].sum(axis=1) for t in ("conveying", "kneading", "chopping")]
     table = np.column_stack([np.arange(1, records + 1), entry, exit_time, residence, np.zeros(records), *by_type, by_zone])
     buffer = io.StringIO()

@@ -18,7 +18,7 @@ from tsg_analysis.domains import (KNEADING_BLOCK, RECORD_HORIZON, SECTION, SECTI
                                   compare_domains, domains_markdown, machine_residence, passage_times, section_holdup,
                                   section_indices)
 from tsg_analysis.model import AXIAL_VELOCITY, MASS_FLOW, SOLID_FRACTION
-from tsg_analysis.run_files import AnalysisInputError, read_zones
+from tsg_analysis.run_files import AnalysisInputError, read_residence, read_zones
 
 ANALYSIS_DIR = Path(__file__).resolve().parents[2] / "analysis"
 STEADY = 1.2   # make_fixture.STEADY_FROM: the elements are full from here on
@@ -136,19 +136,21 @@ def test_records_too_short_against_their_closing_time_are_not_estimated(runs):
     # where only the fast passes would have completed
     comparison = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
     rows = {(r.quantity, r.scope) for r in comparison.rows}
-    # the full fixture's records close at its outlet, hold-up / throughput ≈ 4.9 s after entry: also too short
+    # the full fixture's passes count from RECORD_HORIZON x 0.69 s after its steady start, past its end
     assert sorted(comparison.records_truncated) == sorted([*(str(runs / f"periodic-{s}") for s in (1, 2, 3)), "full"])
-    assert comparison.records_truncated[str(runs / "periodic-1")] == f"{RECORD_HORIZON * 0.6942:.3g} s"
+    assert f"end before {RECORD_HORIZON * 0.6942:.3g} s after its first entry" in comparison.records_truncated[str(runs / "periodic-1")]
+    assert f"between {STEADY + RECORD_HORIZON * 0.6942:.3g} s" in comparison.records_truncated["full"]
     assert not any(quantity == TIME_PER_PASSAGE for quantity, _ in rows) and comparison.rtds == []
-    assert "too short a record in" in domains_markdown(comparison)
+    assert "no passes counted for" in domains_markdown(comparison)
     # the same records without the horizon: the fast passes, a number that would be biased
     assert len(passage_times(runs / "periodic-1", range(8), STEADY)) > 0
     assert len(passage_times(runs / "periodic-1", range(8), STEADY, horizon=RECORD_HORIZON * 0.6942)) == 0
 
 
 def test_a_side_with_records_is_reported_when_the_other_has_none(runs, monkeypatch):
-    # half a closing time: past the full fixture's record end (4.9 s / 2), not the periodic's (0.69 s / 2)
-    monkeypatch.setattr(domains, "RECORD_HORIZON", 0.5)
+    # two balance times of the section (0.69 s): after the periodic fixtures' first entries (0 s) within
+    # their records (to 2 s), after the full fixture's steady start (1.2 s) past them
+    monkeypatch.setattr(domains, "RECORD_HORIZON", 2.0)
     comparison = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
     row = {(r.quantity, r.scope): r for r in comparison.rows}[(TIME_PER_PASSAGE, KNEADING_BLOCK)]
     assert np.isnan(row.full.mean) and np.isfinite(row.periodic.mean)
@@ -216,3 +218,81 @@ def test_auto_full_start_names_the_run_when_it_refuses(runs, monkeypatch):
     monkeypatch.setattr(domains, "MIN_INDEPENDENT", 1e9)   # no record is long enough for this
     with pytest.raises(AnalysisInputError, match="no steady window on the periodic domain's section"):
         domains.full_steady_start(runs / "full", periodic)
+
+
+# ---- the full run's passes of the section: outlet records and the snapshot of those still inside ------
+
+SECTION_MEAN = 2.0   # s, Gamma(3) time in the section (zones 2-6 below)
+DOWNSTREAM_MEAN = 6.0  # s, downstream: long against the window, as in the demo's full run
+SNAPSHOT = 20.0      # s
+
+
+def _write_machine(run_dir: Path, rng: np.random.Generator, particles: int = 20_000) -> dict[str, np.ndarray]:
+    """A full machine fed at a constant rate from t = 0: a particle spends a Gamma time upstream (zone 1),
+    in the section (zones 2-6, fixed shares) and a time downstream (zone 7) that grows with its time
+    in the section, in that order. Records as
+    fix residence/time writes them with inside_records 1: an outlet record per particle that left by
+    SNAPSHOT, an inside record with the zones' times so far per particle still inside."""
+    run_dir.mkdir(parents=True)
+    edges = np.array([0.0, 0.05, 0.09, 0.1, 0.11, 0.12, 0.16, 0.4])
+    kinds = ["conveying", "conveying", "kneading", "kneading", "kneading", "conveying", "conveying"]
+    (run_dir / "zones.txt").write_text("# index type x_start_m x_end_m free_volume_m3\n" + "".join(
+        f"{i + 1} {kind} {edges[i]:.6f} {edges[i + 1]:.6f} 1e-5\n" for i, kind in enumerate(kinds)))
+    entry = np.sort(rng.uniform(0.0, SNAPSHOT, particles))
+    upstream = rng.gamma(4.0, 0.5 / 4.0, particles)
+    section = rng.gamma(3.0, SECTION_MEAN / 3.0, particles)
+    # slow in the section, slow downstream (as the demo's slow particles under the flight tips)
+    downstream = DOWNSTREAM_MEAN / SECTION_MEAN * section * rng.gamma(4.0, 1.0 / 4.0, particles)
+    shares = np.array([0.3, 0.1, 0.15, 0.15, 0.3])
+    whole = np.column_stack([upstream, section[:, None] * shares, downstream])
+    elapsed = np.minimum(SNAPSHOT - entry, whole.sum(axis=1))
+    before = np.cumsum(whole, axis=1) - whole
+    by_zone = np.clip(elapsed[:, None] - before, 0.0, whole)
+    left = entry + whole.sum(axis=1) <= SNAPSHOT
+    by_type = [by_zone[:, np.array(kinds) == t].sum(axis=1) for t in ("conveying", "kneading", "chopping")]
+    lines = ["# tsg-dem residence records v1", "# synthetic full machine (test_domains.py)",
+             "# columns: id entry_time exit_time residence_time exit_reason time_conveying time_kneading "
+             "time_chopping " + " ".join(f"time_zone_{i}" for i in range(1, 8))]
+    for k in np.argsort(np.where(left, entry + elapsed, SNAPSHOT), kind="stable"):
+        numbers = " ".join(f"{v:.12g}" for v in (*[b[k] for b in by_type], *by_zone[k]))
+        lines.append(f"{k + 1} {entry[k]:.12g} {entry[k] + elapsed[k]:.12g} {elapsed[k]:.12g} "
+                     f"{'outlet' if left[k] else 'inside'} {numbers}")
+    (run_dir / "residence.txt").write_text("\n".join(lines) + "\n")
+    return {"entry": entry, "section": section, "section_exit": entry + upstream + section, "left": left}
+
+
+def test_full_passes_are_every_pass_that_ended_in_the_window(tmp_path):
+    from scipy import stats
+
+    from tsg_analysis.domains import full_passes
+    truth = _write_machine(tmp_path / "machine", np.random.default_rng(11))
+    after = 10.0   # the passes that end from here on began well after the feed started
+    passes = full_passes(tmp_path / "machine", 5, after)
+    ended = (truth["section_exit"] > after) & (truth["section_exit"] <= SNAPSHOT)
+    assert passes.snapshot == SNAPSHOT and len(passes.exit_time) == np.count_nonzero(ended) > 3000
+    np.testing.assert_allclose(passes.exit_time, np.sort(truth["section_exit"][ended]), rtol=0, atol=1e-9)
+    times = passes.time_by_zone[:, 1:6].sum(axis=1)
+    # the times of passes ending in a stationary window are distributed as the time per pass itself
+    assert stats.kstest(times, stats.gamma(3.0, scale=SECTION_MEAN / 3.0).cdf).pvalue > 0.01
+    assert abs(times.mean() - SECTION_MEAN) < 3 * times.std() / np.sqrt(len(times))
+    # the outlet records alone miss the passes of particles still downstream: they lean to fast passes
+    records = read_residence(tmp_path / "machine" / "residence.txt")
+    outlet = records.exit_reason == "outlet"
+    exits = records.entry_time + records.time_by_zone[:, :6].sum(axis=1)
+    naive = records.time_by_zone[outlet & (exits > after)][:, 1:6].sum(axis=1)
+    assert naive.mean() < SECTION_MEAN - 5 * naive.std() / np.sqrt(len(naive))
+
+
+def test_full_passes_need_a_snapshot_and_stop_at_it(tmp_path):
+    from tsg_analysis.domains import full_passes
+    _write_machine(tmp_path / "machine", np.random.default_rng(12), particles=2000)
+    residence = tmp_path / "machine" / "residence.txt"
+    text = residence.read_text()
+    count = len(full_passes(tmp_path / "machine", 5, 10.0).exit_time)
+    # a run continued past its snapshot without a new one: later outlet records are not passes of the window
+    later = "99999 15 23 8 outlet 8 0 0 1 1 0 0 1 1 4\n"
+    residence.write_text(text + later)
+    assert len(full_passes(tmp_path / "machine", 5, 10.0).exit_time) == count
+    residence.write_text("\n".join(l for l in text.splitlines() if " inside " not in l) + "\n")
+    with pytest.raises(AnalysisInputError, match="inside_records 1"):
+        full_passes(tmp_path / "machine", 5, 10.0)

@@ -195,7 +195,8 @@ def full_steady_run(tmp_path_factory):
     # inside the feed zone, so the branch is reached in milliseconds
     out = tmp_path_factory.mktemp("full")
     run_case("full", out, ("sensor_1", 0.004), ("sensor_2", 0.02), ("steady_tolerance", 1e6),
-             ("t_max_startup", 0.05), ("stats_every", 200), ("thermo_every", 100), ("t_sample", 0.0004))
+             ("t_max_startup", 0.05), ("stats_every", 200), ("thermo_every", 100), ("t_sample", 0.0004),
+             ("inside_records", 1))
     return out
 
 
@@ -260,6 +261,23 @@ def test_full_case_steady_branch_writes_restart_and_holdup(full_steady_run):
     mass, count, mfs1, mfs2 = (tmp_path / "holdup.txt").read_text().splitlines()[1].split()
     assert float(mass) == pytest.approx(float(steady.group(2)), rel=1e-6) and int(count) > 0 and float(mfs2) > 0
     assert read_element_statistics(tmp_path / "elements.txt").values.shape[1] == len(read_zones(tmp_path / "zones.txt"))
+
+
+def test_full_case_inside_records_account_for_every_particle_once(full_steady_run):
+    # inside_records 1: one "inside" record per particle in the machine at the end, none twice, none for
+    # a particle that left, all at the end time, although the sampling run ends a run every thermo_every steps
+    log = (full_steady_run / "log.lammps").read_text(errors="replace")
+    atoms_at_end = int(parse_thermo(log)[-1]["Atoms"][-1])
+    records = read_residence(full_steady_run / "residence.txt")
+    inside = records.exit_reason == "inside"
+    assert np.count_nonzero(inside) == atoms_at_end > 0
+    assert len(np.unique(records.ids[inside])) == atoms_at_end
+    assert not np.isin(records.ids[inside], records.ids[~inside]).any()
+    assert np.ptp(records.exit_time[inside]) == 0.0
+    # the whole axis is the analysis domain: entry + time inside = the end, and the zones' times add up to it
+    np.testing.assert_allclose(records.entry_time[inside] + records.residence_time[inside], records.exit_time[inside],
+                               rtol=0, atol=1e-9)
+    np.testing.assert_allclose(records.time_by_zone[inside].sum(axis=1), records.residence_time[inside], rtol=1e-9, atol=1e-12)
 
 
 @pytest.mark.parametrize("name", ["report", "element_profiles"])

@@ -114,4 +114,5 @@ CASES: list[BadInput] = [
     *refused("nonperiodic", "psd_sigma", 0.3, ("0.05 or 0.2",), "only the shipped size distributions have an include"),
     *refused("full", "steady_tolerance", 0, ("> 0",), "no run ever meets a zero imbalance"),
     *refused("full", "t_max_startup", -1, ("> 0",), "a negative start-up limit"),
+    *refused("full", "inside_records", 2, ("1 (a record per particle", "or 0"), "a switch: any other value would write no snapshot"),
 ]
