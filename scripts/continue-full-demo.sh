@@ -11,7 +11,9 @@
 # The run stops by itself at t_sample after its (spurious, at 0.99 s) in-script steady state; the
 # steady window is chosen afterwards: python -m tsg_analysis domains ... --full-start auto (it refuses a
 # record that is not yet steady for long enough). The passes of the section (the RTDs) need the
-# snapshot at the end: stop a running continuation, then end it with --until.
+# snapshot at the end: stop a running continuation, --keep, end it with --until (the finished run has
+# no restart file left: segment.sh removes them), --keep again (the outputs; the restart file of the
+# first --keep stays, and a later continuation from it drops the records written after it).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 kept="$repo/docs/validation/full-demo-d15"
@@ -21,10 +23,14 @@ python="$repo/.venv/bin/python"
 
 if [ "${1:-}" = "--keep" ]; then   # the latest restart file and the outputs, compressed into docs/
   latest=$(find "$out" -maxdepth 1 -name 'restart.[0-9]*' -printf '%f\n' | sort -t. -k2 -n | tail -1)
-  [ -n "$latest" ] || { echo "no restart file in $out" >&2; exit 1; }
   "$repo/cases/slurm/merge-elements.sh" "$out"   # one elements.txt: what the analysis reads
-  rm -f "$kept"/*.xz
-  xz -T2 -6 -c "$out/$latest" > "$kept/$latest.xz"
+  find "$kept" -maxdepth 1 -name '*.xz' ! -name 'restart.*' -delete
+  if [ -n "$latest" ]; then
+    rm -f "$kept"/restart.*.xz
+    xz -T2 -6 -c "$out/$latest" > "$kept/$latest.xz"
+  else   # a finished run (--until) has none left: the kept one stays, its records roll back to it
+    echo "no restart file in $out (a finished run): keeping $(cd "$kept" && ls restart.*.xz)"
+  fi
   for f in log.lammps massflow.txt residence.txt elements.txt $(cd "$out" && ls log.upto-*.lammps); do
     xz -c "$out/$f" > "$kept/$f.xz"
   done
