@@ -421,7 +421,8 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
                                  e.text(), num(c.core_seconds if c else None),
                                  num(c.core_seconds_per_simulated_second if c else None),
                                  num(c.particle_steps_per_second if c else None)])
-    (out / "accuracy.md").write_text(markdown(study, points, quantities, controls_resolved, tolerance, tolerance_quantity, choice))
+    (out / "accuracy.md").write_text(markdown(study, points, quantities, controls_resolved, tolerance, tolerance_quantity, choice),
+                                  encoding="utf-8")
     figures(out, points, quantities)
     return result
 
@@ -577,7 +578,7 @@ def run(args: argparse.Namespace) -> int:
         write_outputs(study, points, tolerance, args.tolerance_quantity)
     study.analyse(points)
     result = write_outputs(study, points, tolerance, args.tolerance_quantity)
-    print((study.dir / "accuracy.md").read_text().split("## Per scope")[0])
+    print((study.dir / "accuracy.md").read_text(encoding="utf-8").split("## Per scope")[0])
     print(f"[accuracy] outputs: {study.dir / 'accuracy.json'}, accuracy.csv, accuracy.md, accuracy-*.png")
     if result["controls_resolved"]:
         print("[accuracy] a control resolved a difference: " + "; ".join(result["controls_resolved"]), file=sys.stderr)

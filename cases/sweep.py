@@ -257,19 +257,21 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
     header = f"Sweep {sweep}: finished runs per setting (replicas combined): {counts}." + (
         f" Failed, left out: {', '.join(failed)}." if failed else "") + f" Window: {window}." + (
         f" {detection}." if detection else "") + "\n\n"
-    (out / "comparison.md").write_text(header + sweep_markdown(rows))
+    (out / "comparison.md").write_text(header + sweep_markdown(rows), encoding="utf-8")
     write_sweep_csv(rows, out / "comparison.csv")
     verdicts = directions(rows)
     table = directions_markdown([v for v in verdicts if v.claim.variant in variants])
     (out / "directions.md").write_text(header + "Direction of each variant's difference from the reference: the seed "
-                                       "paper's and ours (significant at 95 %, else 'not resolved').\n\n" + table)
+                                       "paper's and ours (significant at 95 %, else 'not resolved').\n\n" + table,
+                                       encoding="utf-8")
     flux = {r.variant: r.difference for r in rows if r.quantity == MASS_FLOW and r.scope == DOMAIN_FLUX}
     plot_paper_mass_flow(out / "mass-flow.png", [(name, flux.get(name), PAPER_MASS_FLOW.get(name)) for name in variants],
                          PAPER_MASS_FLOW["reference"])
     plot_element_panels(out / "elements.png", rows, [SOLID_FRACTION, AXIAL_VELOCITY])
     (out / "parts.md").write_text(header + f"Domain flux in {parts} consecutive equal parts of the window (replica "
                                   "window means ± 95 %): does a difference persist as the start-up fades, and has "
-                                  "the flux stopped drifting?\n\n" + parts_markdown(flux_by_part))
+                                  "the flux stopped drifting?\n\n" + parts_markdown(flux_by_part),
+                                  encoding="utf-8")
     print(header + table + "\n" + parts_markdown(flux_by_part) +
           f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, parts.md, mass-flow.png, elements.png")
     return 0

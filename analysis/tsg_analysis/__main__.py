@@ -174,7 +174,7 @@ def _domains(args: argparse.Namespace) -> int:
     header = (f"Periodic {', '.join(str(d) for d in periodic)} (from t = {max(starts):.4g} s) against full "
               f"{args.full_run} (from t = {full_start:.4g} s).\n\n")
     text = header + domains_markdown(comparison)
-    (args.out / "domains.md").write_text(text)
+    (args.out / "domains.md").write_text(text, encoding="utf-8")
     plot_rtd_comparison(args.out / "rtd.png", [(label, samples) for label, samples in comparison.samples.items()],
                         {("periodic", c.scope): c for c in comparison.rtds})
     plot_domain_elements(args.out / "elements.png", comparison.rows, (SOLID_FRACTION, SPEED, AXIAL_VELOCITY, TIME_BY_BALANCE),

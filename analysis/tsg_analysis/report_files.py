@@ -95,7 +95,8 @@ def write_outputs(report: Report, out_dir: Path) -> None:
         "differences": [{"reference": ref, "run": label, "quantity": quantity, "unit": UNITS[quantity], "scope": scope,
                          **d.as_dict()} for ref, label, quantity, scope, d in report.differences],
         "comparisons": [{"reference": ref, "run": label, "scope": c.scope, "ks_distance": c.ks_distance,
-                         "relative_mean_difference": c.mean_difference, "agree": c.agree}
+                         "relative_mean_difference": c.mean_difference, "agree": c.agree,
+                         "ks_p_value": c.ks_p_value}
                         for ref, label, c in report.comparisons],
         "figures": report.figures,
         "not_produced": [{"run": r, "part": p, "reason": why} for r, p, why in report.not_produced],

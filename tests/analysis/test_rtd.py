@@ -93,3 +93,12 @@ def test_agreement_metric():
 def test_too_few_records_is_an_input_error():
     with pytest.raises(AnalysisInputError, match="at least"):
         rtd_statistics(np.ones(3), "tiny")
+
+
+def test_ks_p_value_rejects_at_its_level_for_one_distribution_and_resolves_a_shift():
+    from tsg_analysis.rtd import compare_rtds
+    rng = np.random.default_rng(5)
+    same = [compare_rtds(rng.gamma(3.0, 1.0, 200), rng.gamma(3.0, 1.0, 300), "same").ks_p_value for _ in range(400)]
+    assert 0.02 <= np.mean(np.array(same) < 0.05) <= 0.08   # p uniform when both are one distribution
+    shifted = compare_rtds(rng.gamma(3.0, 1.0, 2000), 1.1 * rng.gamma(3.0, 1.0, 2000), "shifted")
+    assert shifted.ks_p_value < 1e-3 and shifted.agree   # resolved, and yet within the agreement distance

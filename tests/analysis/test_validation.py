@@ -92,7 +92,7 @@ def test_sweep_with_replicas_reports_differences_and_directions(tmp_path):
     assert "| cohesion-high | mass flow domain flux Σ m v_x / L | − | window too short | not resolved |" in proc.stdout
     # the flux in each half of the window: static friction's +50 % holds in both halves (the scaled
     # axial velocity is in every sample)
-    halves = (tmp_path / "report" / "parts.md").read_text()
+    halves = (tmp_path / "report" / "parts.md").read_text(encoding="utf-8")
     assert re.search(r"\| static-friction-0.1 \| [^|]+ \| \+(4[5-9]|5[0-5])% \| [^|]+ \| \+(4[5-9]|5[0-5])% \|", halves), halves
     for name in ("comparison.md", "comparison.csv", "directions.md", "parts.md", "mass-flow.png", "elements.png"):
         assert (tmp_path / "report" / name).stat().st_size > 0
@@ -143,11 +143,11 @@ def test_report_window_starts_after_the_start_up(tmp_path):
         return int(found.group(1))
 
     assert 20 <= flux_change("--parts", "2") <= 30
-    parts = (tmp_path / "report" / "parts.md").read_text()
+    parts = (tmp_path / "report" / "parts.md").read_text(encoding="utf-8")
     assert re.search(r"\| static-friction-0.1 \| [^|]+ \| [+-][0-3]% \| [^|]+ \| \+(4[5-9]|5[0-5])% \|", parts), parts
     assert 45 <= flux_change("--start", "1.5") <= 55
     assert 45 <= flux_change("--start", "auto") <= 55
-    assert "the latest detected steady start" in (tmp_path / "report" / "parts.md").read_text()
+    assert "the latest detected steady start" in (tmp_path / "report" / "parts.md").read_text(encoding="utf-8")
     for bad, why in (("-1", "a time in s >= 0"), ("soon", "a time in s >= 0"), ("5", "too few")):
         proc = subprocess.run([*sweep, "report", str(tmp_path), "--start", bad], capture_output=True, text=True, encoding="utf-8", env=env)
         assert proc.returncode == 2 and why in proc.stderr, proc.stderr

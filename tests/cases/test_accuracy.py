@@ -76,7 +76,7 @@ def test_no_error_within_its_interval_is_printed_as_a_number(study):
             assert row["text"].startswith(("not resolved (within ± ", "window too short"))
         else:   # a resolved error: larger than its interval
             assert abs(float(row["error"])) > float(row["error_half_width"])
-    table = (directory / "accuracy.md").read_text()
+    table = (directory / "accuracy.md").read_text(encoding="utf-8")
     for row in fidelity:
         assert f"| {row['point']} | {row['quantity']} | {row['scope']} |" in table
         if row["significant"] == "False":

@@ -42,5 +42,5 @@ def test_map_smoke_run_records_a_stable_and_an_unstable_step(tmp_path):
     # three times the Rayleigh time blows up, and the guard says so
     assert not runs[3.2]["stable"] and runs[3.2]["reason"] == "kinetic-energy blow-up"
     assert result["summary"][0]["largest_stable_fraction"] == 0.1
-    assert (tmp_path / "stability_map.md").read_text().startswith("| case |")
+    assert (tmp_path / "stability_map.md").read_text(encoding="utf-8").startswith("| case |")
     assert (tmp_path / "stability_map.png").stat().st_size > 1000
