@@ -189,6 +189,17 @@ def passage_times(run_dir: Path, zone_indices: Sequence[int], start: float, weig
     return (chosen @ scale)[order]
 
 
+def counted_lengths(zones: Zones, periodic_runs: Sequence[Path]) -> np.ndarray:
+    """Per periodic zone, the length inside the runs' analysis domain (their records' header; m)."""
+    domains = {read_residence(d / "residence.txt").analysis_domain for d in periodic_runs}
+    if len(domains) != 1:
+        raise AnalysisInputError(f"the periodic runs' records have different analysis domains: {sorted(map(str, domains))}")
+    (domain,) = domains
+    if domain is None:
+        return zones.x_end - zones.x_start
+    return np.clip(np.minimum(zones.x_end, domain[1]) - np.maximum(zones.x_start, domain[0]), 0.0, None)
+
+
 @dataclass(frozen=True)
 class FullPasses:
     """A full run's complete passes of a stretch of its zones that ended in a window."""
@@ -317,6 +328,10 @@ def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: f
               **{label: [j] for j, label in enumerate(periodic_zones.labels)}}
     periodic_length = periodic_zones.x_end - periodic_zones.x_start
     share = periodic_length / (full_zones.x_end - full_zones.x_start)[index]   # the full run's zones, scaled
+    # the periodic records count time only inside the analysis domain (not in the buffers at its ends):
+    # the full run's record times are scaled to the same part of each element
+    counted = counted_lengths(periodic_zones, periodic_runs)
+    record_share = counted / (full_zones.x_end - full_zones.x_start)[index]
     samples: dict[str, dict[str, np.ndarray]] = {"full": {}, "periodic": {}}
     residence = machine_residence(full_run, full_start)
     section_length = float(periodic_length.sum())
@@ -341,7 +356,7 @@ def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: f
         rows.append(DomainRow(TIME_BY_BALANCE, scope, full_balance, periodic_balance,
                               difference(full_balance, periodic_balance)))
         samples["full"][scope] = (np.zeros(0) if passes is None or "full" in truncated
-                                  else passes.time_by_zone[:, [index[j] for j in zones]] @ share[zones])
+                                  else passes.time_by_zone[:, [index[j] for j in zones]] @ record_share[zones])
         by_run = [passage_times(d, zones, periodic_start, horizon=h) for d, h in zip(periodic_runs, periodic_horizons)]
         samples["periodic"][scope] = np.concatenate(by_run)
         if scope == SECTION:
@@ -382,6 +397,10 @@ def domains_markdown(comparison: DomainComparison) -> str:
     if comparison.records_truncated:
         lines += ["", "Time per passage from the records: no passes counted for"]
         lines += [f"- {run}: {why}" for run, why in comparison.records_truncated.items()]
+    if comparison.rtds or any(r.quantity == TIME_PER_PASSAGE for r in comparison.rows):
+        lines += ["", "Time per passage from the records: over the part of each element inside the periodic runs' "
+                      "analysis domain (their records do not count the buffers at its ends; the full run's times are "
+                      "scaled to the same lengths). By mass balance: over the whole elements."]
     if comparison.rtds:
         full_count, periodic_count = (len(comparison.samples[side][SECTION]) for side in ("full", "periodic"))
         lines += ["", f"Distributions of the time per passage ({full_count} passes of the full run, {periodic_count} "

@@ -72,6 +72,8 @@ class ResidenceRecords:
     time_by_type: dict[str, np.ndarray]  # conveying / kneading / chopping -> s per record
     time_by_zone: np.ndarray  # (records, zones) s
     issues: tuple[str, ...] = ()
+    # [lo, hi) in m where the times count (the header's "# analysis domain:" line); None: the whole axis
+    analysis_domain: tuple[float, float] | None = None
 
     def __len__(self) -> int:
         return len(self.ids)
@@ -208,6 +210,17 @@ def _records(path: Path, magic: str) -> tuple[str, list[str], list[str], list[st
     return text, issues, header, _columns_line(path, header)
 
 
+def _analysis_bounds(path: Path, text: str) -> tuple[float, float] | None:
+    """'[lo, hi)' -> (lo, hi); 'whole axis' -> None."""
+    if text == "whole axis":
+        return None
+    try:
+        lo, hi = (float(v) for v in text.strip("[)").split(","))
+    except ValueError:
+        raise AnalysisInputError(f"{path}: analysis domain '{text}' is not '[lo, hi)' or 'whole axis'") from None
+    return lo, hi
+
+
 def read_residence(path: Path | str) -> ResidenceRecords:
     path = Path(path)
     text, issues, header, columns = _records(path, RESIDENCE_MAGIC)
@@ -224,7 +237,10 @@ def read_residence(path: Path | str) -> ResidenceRecords:
     codes = table[:, 4]
     if np.any((codes != np.round(codes)) | (codes < 0) | (codes >= len(EXIT_REASONS))):
         raise AnalysisInputError(f"{path}: exit_reason must be one of {', '.join(EXIT_REASONS)}")
+    domain = next((line.split(":", 1)[1].strip() for line in header if line.startswith("# analysis domain:")), "whole axis")
+    bounds = _analysis_bounds(path, domain)
     return ResidenceRecords(
+        analysis_domain=bounds,
         ids=table[:, 0].astype(np.int64),
         entry_time=table[:, 1],
         exit_time=table[:, 2],

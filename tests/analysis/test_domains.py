@@ -298,3 +298,29 @@ def test_full_passes_need_a_snapshot_and_stop_at_it(tmp_path):
     residence.write_text("\n".join(l for l in text.splitlines() if " inside " not in l) + "\n")
     with pytest.raises(AnalysisInputError, match="inside_records 1"):
         full_passes(tmp_path / "machine", 5, 10.0)
+
+
+def test_full_record_times_cover_the_part_of_each_element_the_periodic_records_count(runs, tmp_path, monkeypatch):
+    # periodic records do not count the buffers at the ends of their domain (6.25 mm of each conveying
+    # element, 29.167 mm long): the full run's times are scaled to the same 22.917 mm
+    import shutil
+    monkeypatch.setattr(domains, "RECORD_HORIZON", 0.0)
+    periodic = []
+    for seed in (1, 2, 3):
+        copy = tmp_path / f"periodic-{seed}"
+        shutil.copytree(runs / f"periodic-{seed}", copy)
+        lines = (copy / "residence.txt").read_text().splitlines()
+        lines.insert(1, "# analysis domain: [0.00625, 0.0895833)")
+        (copy / "residence.txt").write_text("\n".join(lines) + "\n")
+        periodic.append(copy)
+    assert read_residence(periodic[0] / "residence.txt").analysis_domain == (0.00625, 0.0895833)
+    whole = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
+    buffered = compare_domains(runs / "full", periodic, STEADY, STEADY)
+    np.testing.assert_allclose(buffered.samples["full"][CONVEYING], whole.samples["full"][CONVEYING] * (22.917 / 29.167),
+                               rtol=2e-4)
+    np.testing.assert_array_equal(buffered.samples["full"][KNEADING_BLOCK], whole.samples["full"][KNEADING_BLOCK])
+    np.testing.assert_array_equal(buffered.samples["periodic"][SECTION], whole.samples["periodic"][SECTION])
+    lines = (periodic[2] / "residence.txt").read_text().replace("[0.00625, 0.0895833)", "[0.005, 0.0908)")
+    (periodic[2] / "residence.txt").write_text(lines)
+    with pytest.raises(AnalysisInputError, match="different analysis domains"):
+        compare_domains(runs / "full", periodic, STEADY, STEADY)

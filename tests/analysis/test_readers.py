@@ -178,3 +178,14 @@ def test_bounding_box_files_of_vtk_dumps_are_not_frames(tmp_path):
         (dumps / name).write_text("# vtk DataFile Version 2.0\n")
     paths, _ = find_dump_files(tmp_path)
     assert [p.name for p in paths] == ["particles_2000.vtk", "particles_4000.vtk"]
+
+
+def test_residence_analysis_domain_from_the_header(tmp_path):
+    path = tmp_path / "residence.txt"
+    path.write_text(RESIDENCE.replace("# written by fix residence (test)\n", "# analysis domain: [0.005, 0.0908)\n"))
+    assert read_residence(path).analysis_domain == (0.005, 0.0908)
+    path.write_text(RESIDENCE)
+    assert read_residence(path).analysis_domain is None   # no line: the whole axis
+    path.write_text(RESIDENCE.replace("# written by fix residence (test)\n", "# analysis domain: 0.005 to 0.09\n"))
+    with pytest.raises(AnalysisInputError, match="analysis domain '0.005 to 0.09'"):
+        read_residence(path)
