@@ -33,6 +33,7 @@ from tsg_cases.progress import Heartbeat, follow
 from tsg_cases.psd import size_classes
 from tsg_meshes.build import mesh_dir_name
 from tsg_meshes.machine import MACHINE_FILE, machine_file_complete
+from tsg_meshes.profile import profile_for_clearance
 
 CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiodic", "full": "consigma1-full"}
 # Scales. demo: coarse particles so that the periodic case gives per-element results in minutes on
@@ -75,7 +76,7 @@ def machine_clearances(gap_factor: float | None, d_mean: float, psd_sigma: float
     the paper's machine for gap_factor None, else gap = gap_factor x the largest particle of the
     PSD, rounded up to 0.1 mm, for the tip and the spacer, and 2 x gap in the section between the
     screws (the 3D gap between conveying flights is 0.51-0.52 x the section gap, measured:
-    docs/stability-demo.md)."""
+    docs/stability-demo.md). --clearances replaces all three."""
     if gap_factor is None:
         return None, None, 0.0
     largest = d_mean * float(size_classes(psd_sigma, PSD_CLASSES)[0].max())
@@ -122,6 +123,11 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
                              "primes after 10000 + 1000 x seed; default: the inputs' 10007 and 10009)")
     parser.add_argument("--feed-at", default="inlet",
                         help="where particles are generated (full case): 'inlet' or 'element:N' (zone N, e.g. element:7 as the paper)")
+    parser.add_argument("--clearances", type=float, nargs=3, metavar=("TIP", "SCREW", "SPACER"),
+                        help="the machine's gaps in m instead of the scale's: flight tip to barrel, screw to screw "
+                             "in an axial section, spacer between staggered discs (0: none). Same barrel and centre "
+                             "distance: the screws' outer radius is the bore radius - TIP, their root radius the "
+                             "centre distance - outer radius - SCREW")
     parser.add_argument("--mesh-tolerance", type=float,
                         help="mesh tolerance in m instead of the scale's (1 %% of the smallest radius)")
     parser.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"))
@@ -133,6 +139,16 @@ def check_options(args: argparse.Namespace) -> None:
     """Every option checked before any expensive preparation (meshes, fill)."""
     if args.mesh_tolerance is not None and not 0.0 < args.mesh_tolerance < 1e-3:
         raise UserError(f"--mesh-tolerance {args.mesh_tolerance} is not allowed: a length in m, 0 < tolerance < 1e-3")
+    if args.clearances is not None:
+        tip, screw, spacer = args.clearances
+        for name, value, low in (("TIP", tip, "0 <"), ("SCREW", screw, "0 <"), ("SPACER", spacer, "0 <=")):
+            if not (0.0 <= value if name == "SPACER" else 0.0 < value) or not value <= 5e-3:
+                raise UserError(f"--clearances {' '.join(map(str, args.clearances))}: {name} = {value} is not allowed: "
+                                f"a gap in m, {low} gap <= 0.005")
+        try:
+            profile_for_clearance(tip, screw)
+        except ValueError as problem:
+            raise UserError(f"--clearances {' '.join(map(str, args.clearances))} is not allowed: {problem}") from None
     if args.holdup_g is not None and not 0.0 < args.holdup_g < 100.0:
         raise UserError(f"--holdup-g {args.holdup_g} is not allowed: hold-up mass in g, 0 < mass < 100")
     if args.np < 1:
@@ -196,9 +212,9 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--out {args.out}: cannot write there ({problem.strerror})") from None
     preparing = Heartbeat(f"{args.case} case: meshes and {'fill' if args.case == 'periodic' else 'feed regions'}").start()
 
-    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"],
-                            machine_clearances(scale["gap_factor"], float(effective["d_mean"]),
-                                               float(effective.get("psd_sigma", 0.05))))
+    clearances = tuple(args.clearances) if args.clearances else \
+        machine_clearances(scale["gap_factor"], float(effective["d_mean"]), float(effective.get("psd_sigma", 0.05)))
+    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"], clearances)
     zones = read_zones(mesh_dir / "zones.txt")
     length = float(zones.x_end[-1])
     d_mean = float(effective["d_mean"])
@@ -238,7 +254,9 @@ def run(args: argparse.Namespace) -> int:
         "variables": {k: str(v) for k, v in variables.items()},
         "rpm": float(effective["rpm"]), "screw_direction": int(float(effective["screw_direction"])),
         "rho_p": rho_p, "d_mean": d_mean, "mesh_dir": str(mesh_dir), "zones_file": str(out / "zones.txt"),
-        "machine_file": str(out / MACHINE_FILE), "git_commit": git_commit()}, indent=1) + "\n")
+        "machine_file": str(out / MACHINE_FILE),
+        "clearances_m": {"tip_to_barrel": clearances[0], "screw_to_screw": clearances[1], "disc_spacer": clearances[2]},
+        "git_commit": git_commit()}, indent=1) + "\n")
     command = command_prefix
     for name, value in variables.items():
         command += ["-var", name, str(value)]

@@ -1,6 +1,6 @@
 """Sensitivity matrix of the seed paper as run directories: write, run (resumable), status.
 
-    tsg-sweep write SWEEP_DIR [--scale paper|demo] [--np N] [--replicas R] [--only NAME ...] [-v name value ...]
+    tsg-sweep write SWEEP_DIR [--scale paper|demo] [--np N] [--replicas R | --seeds K ...] [--only NAME ...] [-v name value ...]
     tsg-sweep run SWEEP_DIR [--only NAME ...]      # locally, one after the other
     tsg-sweep status SWEEP_DIR
     tsg-sweep report SWEEP_DIR [--out DIR] [--start T|auto] [--parts K]   # differences ± 95 %, the paper's directions
@@ -13,7 +13,10 @@ the particle-size series of Section 2.4 (mean diameter 200–1500 um, same mass)
 checked against the periodic case's variables and value rules when written. With --replicas R each
 setting is R runs that differ only in the fill seed (tsg-run-case --seed 1 … R), in NAME/seed-K:
 their window means give intervals that hold for windows too short for a time-series interval
-(docs/statistics.md). --only writes a part of the matrix (e.g. no 200 um run at demo scale). Each
+(docs/statistics.md); --seeds K ... names the seeds instead. Writing into an existing sweep directory adds runs
+to it (runs.txt keeps the runs it lists): e.g. a fourth seed for a setting whose run the guards stopped,
+`--only NAME --seeds 4` with the same options. A run that exists already must be written with what it was
+written with. --only writes a part of the matrix (e.g. no 200 um run at demo scale). Each
 run directory
 holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once run, the case outputs and a state
 marker: RUNNING (with the process id), DONE or FAILED (with the exit status). `report` compares each
@@ -56,7 +59,10 @@ def matrix() -> dict[str, dict[str, object]]:
 
 
 def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str], replicas: int = 1,
-          only: list[str] | None = None) -> list[Path]:
+          only: list[str] | None = None, seeds: list[int] | None = None) -> list[Path]:
+    """Writes the runs (one per setting, or NAME/seed-K for each fill seed K: seeds 1 … replicas, or
+    `seeds`) and adds them to the sweep's runs.txt, after the runs it lists already. A run directory
+    that exists keeps its outputs only if what it would be written with is what it was written with."""
     check_names(overrides, "periodic")
     settings = matrix()
     unknown = sorted(set(only or ()) - set(settings))
@@ -64,15 +70,35 @@ def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str], replic
         raise ParameterError(f"--only {' '.join(unknown)} is not allowed: use names of the matrix ({', '.join(settings)})")
     if replicas < 1:
         raise ParameterError(f"--replicas {replicas} is not allowed: runs per setting that differ in the fill seed, >= 1")
+    if seeds is not None:
+        bad = [seed for seed in seeds if seed < 1]
+        if bad or len(set(seeds)) != len(seeds) or not seeds:
+            raise ParameterError(f"--seeds {' '.join(map(str, seeds))} is not allowed: distinct fill seeds >= 1")
     if only:
         settings = {name: variables for name, variables in settings.items() if name in only}
     for variables in settings.values():
         merged = {**{k: str(v) for k, v in variables.items()}, **overrides}
         check_values({**defined_variables("periodic"), **merged}, "periodic", overrides)
+    if seeds is None and replicas > 1:
+        seeds = list(range(1, replicas + 1))
+    runs = [(name, variables, None) for name, variables in settings.items()] if seeds is None else \
+        [(f"{name}/seed-{seed}", variables, seed) for name, variables in settings.items() for seed in seeds]
+    listing = sweep / "runs.txt"
+    listed = listing.read_text().split() if listing.is_file() else []
+    for name, variables, seed in runs:
+        described = {"case": "periodic", "scale": scale, "vars": {**{k: str(v) for k, v in variables.items()}, **overrides},
+                     "seed": seed}
+        setting = name.split("/")[0]
+        if any(other.split("/")[0] == setting and (other == setting) != (seed is None) for other in listed):
+            raise ParameterError(f"{sweep / name}: {sweep} already holds {setting} "
+                                 f"{'with fill seeds (--replicas/--seeds)' if seed is None else 'without fill seeds'}; "
+                                 "one setting's runs either all name their seed or none does")
+        written = sweep / name / "sweep.json"
+        if written.is_file() and json.loads(written.read_text()) != described:
+            raise ParameterError(f"{sweep / name} was written with {written.read_text().strip()}, not "
+                                 f"{json.dumps(described)}: its outputs belong to those settings; write to a new sweep directory")
     sweep.mkdir(parents=True, exist_ok=True)
     names = []
-    runs = [(name, variables, None) for name, variables in settings.items()] if replicas == 1 else \
-        [(f"{name}/seed-{seed}", variables, seed) for name, variables in settings.items() for seed in range(1, replicas + 1)]
     for name, variables, seed in runs:
         run_dir = sweep / name
         run_dir.mkdir(parents=True, exist_ok=True)
@@ -91,10 +117,11 @@ def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str], replic
             'if [ $status -eq 0 ]; then touch "$here/DONE"; else echo $status > "$here/FAILED"; fi\nexit $status\n')
         (run_dir / "run.sh").chmod(0o755)
         names.append(name)
-    (sweep / "runs.txt").write_text("\n".join(names) + "\n")
+    every = listed + [name for name in names if name not in listed]
+    listing.write_text("\n".join(every) + "\n")
     (sweep / "sweep.slurm").write_text(
         "#!/usr/bin/env bash\n"
-        f"#SBATCH --job-name=tsg-sweep\n#SBATCH --array=0-{len(names) - 1}\n#SBATCH --ntasks={ranks}\n"
+        f"#SBATCH --job-name=tsg-sweep\n#SBATCH --array=0-{len(every) - 1}\n#SBATCH --ntasks={ranks}\n"
         "#SBATCH --time=24:00:00\n#SBATCH --output=%x-%a.out\n"
         "# One array task per line of runs.txt; finished runs (DONE) are skipped, so resubmitting resumes.\n"
         'sweep="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"\n'
@@ -130,7 +157,10 @@ def main(argv: list[str] | None = None) -> int:
     w.add_argument("sweep", type=Path)
     w.add_argument("--scale", choices=["paper", "demo"], default="paper")
     w.add_argument("--np", type=int, default=4)
-    w.add_argument("--replicas", type=int, default=1, help="runs per setting, fill seeds 1 … R")
+    seeding = w.add_mutually_exclusive_group()
+    seeding.add_argument("--replicas", type=int, default=1, help="runs per setting, fill seeds 1 … R")
+    seeding.add_argument("--seeds", type=int, nargs="+", default=None, metavar="K",
+                         help="runs per setting with these fill seeds (e.g. a replacement for a run the guards stopped)")
     w.add_argument("--only", nargs="+", default=None, metavar="NAME", help="write only these settings")
     w.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
                    help="applied to every run (e.g. shorter times)")
@@ -160,7 +190,7 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     if args.command == "write":
         if args.np < 1:
             raise ParameterError(f"--np {args.np} is not allowed: number of MPI ranks per run, >= 1")
-        written = write(args.sweep, args.scale, args.np, dict(args.var), args.replicas, args.only)
+        written = write(args.sweep, args.scale, args.np, dict(args.var), args.replicas, args.only, args.seeds)
         print(f"{len(written)} runs written to {args.sweep} (run: tsg-sweep run {args.sweep}; "
               f"cluster: sbatch {args.sweep / 'sweep.slurm'})")
         return 0

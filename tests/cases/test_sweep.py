@@ -44,3 +44,26 @@ def test_run_is_resumable_and_status_reports_states(tmp_path):
     assert "done 1  running 0  failed 1  pending 9  interrupted 1" in status
     bad = subprocess.run(SWEEP + ["run", str(tmp_path), "--only", "nonsense"], capture_output=True, text=True)
     assert bad.returncode == 2 and "no run named nonsense" in bad.stderr
+
+
+def test_write_adds_seeds_to_a_sweep_and_refuses_to_rewrite_a_run_with_other_settings(tmp_path):
+    common = ["--scale", "demo", "--np", "1", "-v", "t_sample", "0.5"]
+    subprocess.run(SWEEP + ["write", str(tmp_path), *common, "--replicas", "3", "--only", "reference", "psd-sigma-0.2"],
+                   check=True, capture_output=True)
+    (tmp_path / "psd-sigma-0.2" / "seed-1" / "DONE").write_text("")
+    subprocess.run(SWEEP + ["write", str(tmp_path), *common, "--seeds", "4", "5", "--only", "psd-sigma-0.2"],
+                   check=True, capture_output=True)
+    names = (tmp_path / "runs.txt").read_text().split()
+    assert names == [f"{setting}/seed-{k}" for setting in ("reference", "psd-sigma-0.2") for k in (1, 2, 3)] + \
+        ["psd-sigma-0.2/seed-4", "psd-sigma-0.2/seed-5"]
+    assert json.loads((tmp_path / "psd-sigma-0.2" / "seed-5" / "sweep.json").read_text())["seed"] == 5
+    assert "--seed 5 periodic" in (tmp_path / "psd-sigma-0.2" / "seed-5" / "run.sh").read_text()
+    assert "#SBATCH --array=0-7" in (tmp_path / "sweep.slurm").read_text()
+    assert (tmp_path / "psd-sigma-0.2" / "seed-1" / "DONE").exists()          # an existing run keeps its state
+    other = subprocess.run(SWEEP + ["write", str(tmp_path), "--scale", "demo", "--np", "1", "-v", "t_sample", "0.9",
+                                    "--seeds", "1", "--only", "reference"], capture_output=True, text=True)
+    assert other.returncode == 2 and "reference/seed-1 was written with" in other.stderr
+    assert '"t_sample": "0.5"' in (tmp_path / "reference" / "seed-1" / "sweep.json").read_text()
+    unseeded = subprocess.run(SWEEP + ["write", str(tmp_path), *common, "--only", "reference"], capture_output=True, text=True)
+    assert unseeded.returncode == 2 and "already holds reference with fill seeds" in unseeded.stderr
+    assert (tmp_path / "runs.txt").read_text().split() == names
