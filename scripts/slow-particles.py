@@ -6,8 +6,10 @@ Reads RUN_DIR/dumps/particles_<step>.vtk at the two steps (default: the last two
 machine (RUN_DIR/machine.in) and zones (RUN_DIR/zones.txt). A particle is slow when its axial
 displacement between the dumps (periodic images resolved by the smallest |Δx| modulo the domain
 length) is under --slow-mm. Printed per zone: particles, slow ones, and the share of each that lies
-in the flight-tip layer, farther from the nearer screw axis than the screw's outer radius (between
-the flight tips and the barrel), where a flight cannot push it. Written for docs/validation.md
+in the flight-tip layer, whose centre is farther from the nearer screw axis than the screw's outer
+radius (between the flight tips and the barrel), and the share out of the flights' reach, whose
+whole sphere lies beyond the outer radius, so that no flight flank can touch it (only a particle
+smaller than the tip clearance can be there). Written for docs/validation.md
 ("the stagnant layer"); the particles of one dump are matched to the other's by id.
 """
 from __future__ import annotations
@@ -61,18 +63,21 @@ def main(argv: list[str] | None = None) -> int:
     y, z = b.columns["y"][order_b], b.columns["z"][order_b]
     nearest = np.min([np.hypot(y - ay, z - az) for ay, az in axes], axis=0)
     in_tip_layer = nearest > outer
+    out_of_reach = nearest - b.columns["radius"][order_b] > outer
     slow = np.abs(shift) < args.slow_mm * 1e-3
     zone = np.searchsorted(zones.x_end, np.remainder(xb - zones.x_start[0], length) + zones.x_start[0], side="right")
     print(f"{args.run_dir}: dumps at steps {first} and {last}; {len(ids)} particles; slow: |Δx| < {args.slow_mm} mm; "
           f"tip layer: farther than {outer * 1e3:.2f} mm from the nearer screw axis")
-    print("| zone | particles | in the tip layer | slow | slow and in the tip layer |")
-    print("|---|---|---|---|---|")
-    for k, label in enumerate(zones.labels):
-        here = zone == k
-        print(f"| {label} | {here.sum()} | {in_tip_layer[here].mean():.0%} | {slow[here].sum()} | "
-              f"{in_tip_layer[here & slow].mean() if (here & slow).any() else float('nan'):.0%} |")
-    print(f"| all | {len(ids)} | {in_tip_layer.mean():.0%} | {slow.sum()} | "
-          f"{in_tip_layer[slow].mean() if slow.any() else float('nan'):.0%} |")
+    print("| zone | particles | in the tip layer | out of the flights' reach | slow | slow and in the tip layer | "
+          "slow and out of reach |")
+    print("|---|---|---|---|---|---|---|")
+
+    def share(mask: np.ndarray, within: np.ndarray) -> str:
+        return f"{mask[within].mean():.0%}" if within.any() else "-"
+    for k, label in enumerate([*zones.labels, "all"]):
+        here = zone == k if label != "all" else np.ones(len(ids), bool)
+        print(f"| {label} | {here.sum()} | {share(in_tip_layer, here)} | {share(out_of_reach, here)} | "
+              f"{(here & slow).sum()} | {share(in_tip_layer, here & slow)} | {share(out_of_reach, here & slow)} |")
     return 0
 
 
