@@ -292,3 +292,24 @@ def test_notebook_executes_on_a_real_case_run(periodic_forward, tmp_path, name):
                    resources={"metadata": {"path": str(notebooks)}}).execute()
     errors = [o for c in notebook.cells if c.cell_type == "code" for o in c.outputs if o.output_type == "error"]
     assert not errors, errors
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81, 19.62])
+def test_gravity_variable_accelerates_the_resting_fill_as_free_fall(tmp_path, gravity):
+    """-v gravity g: for 0.2 ms after the static fill (screws nearly still; no particle falls far
+    enough, 0.2 um, to reach anything it does not touch already) every particle falls freely, so
+    the kinetic energy is M (g t)^2 / 2, M the fill's mass from its data file (diameter, density)."""
+    run_case("periodic", tmp_path, ("gravity", gravity), ("rpm", 0.001), ("t_startup", 2e-4), ("t_sample", 1e-5),
+             ("thermo_every", 20), extra=("--holdup-g", "0.3"))
+    log = (tmp_path / "log.lammps").read_text()
+    assert float(parameters(log)["gravity"]) == gravity
+    data = (tmp_path / "fill.in.data").read_text().split("Atoms")[1].split()
+    atoms = np.array(data, dtype=float).reshape(-1, 7)          # id type diameter density x y z
+    mass = float(np.sum(atoms[:, 3] * np.pi * atoms[:, 2] ** 3 / 6))
+    last = parse_thermo(log)[-1]
+    t, energy = float(last["Time"][-1]), float(last["KinEng"][-1])
+    assert t > 2e-4
+    if gravity == 0.0:
+        assert energy == 0.0
+    else:
+        assert energy == pytest.approx(0.5 * mass * (gravity * t) ** 2, rel=2e-3)
