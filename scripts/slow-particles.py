@@ -9,7 +9,9 @@ length) is under --slow-mm. Printed per zone: particles, slow ones, and the shar
 in the flight-tip layer, whose centre is farther from the nearer screw axis than the screw's outer
 radius (between the flight tips and the barrel), and the share out of the flights' reach, whose
 whole sphere lies beyond the outer radius, so that no flight flank can touch it (only a particle
-smaller than the tip clearance can be there). Written for docs/validation.md
+smaller than the tip clearance can be there). A last line gives where those lie (the share in the
+lower half of the barrel; gravity is along -z) and how fast they go round the nearer axis against
+the others, at the second dump. Written for docs/validation.md
 ("the stagnant layer"); the particles of one dump are matched to the other's by id.
 """
 from __future__ import annotations
@@ -61,7 +63,12 @@ def main(argv: list[str] | None = None) -> int:
     xa, xb = a.columns["x"][order_a], b.columns["x"][order_b]
     shift = np.remainder(xb - xa + length / 2, length) - length / 2   # the smallest periodic displacement
     y, z = b.columns["y"][order_b], b.columns["z"][order_b]
-    nearest = np.min([np.hypot(y - ay, z - az) for ay, az in axes], axis=0)
+    distances = np.array([np.hypot(y - ay, z - az) for ay, az in axes])
+    nearest = distances.min(axis=0)
+    # the motion round the nearer axis (m/s) and the side of the barrel (gravity is along -z)
+    axis_y = np.array([ay for ay, _ in axes])[distances.argmin(axis=0)]
+    below = z - axes[0][1] < 0
+    round_speed = np.abs((y - axis_y) * b.columns["vz"][order_b] - (z - axes[0][1]) * b.columns["vy"][order_b]) / nearest
     in_tip_layer = nearest > outer
     out_of_reach = nearest - b.columns["radius"][order_b] > outer
     slow = np.abs(shift) < args.slow_mm * 1e-3
@@ -78,6 +85,11 @@ def main(argv: list[str] | None = None) -> int:
         here = zone == k if label != "all" else np.ones(len(ids), bool)
         print(f"| {label} | {here.sum()} | {share(in_tip_layer, here)} | {share(out_of_reach, here)} | "
               f"{(here & slow).sum()} | {share(in_tip_layer, here & slow)} | {share(out_of_reach, here & slow)} |")
+    reach = out_of_reach
+    print(f"out of the flights' reach: {reach.sum()} particles, {below[reach].mean() if reach.any() else float('nan'):.0%} "
+          f"of them in the lower half of the barrel; mean speed round the nearer axis "
+          f"{round_speed[reach].mean() if reach.any() else float('nan'):.3f} m/s (the others "
+          f"{round_speed[~reach].mean() if (~reach).any() else float('nan'):.3f} m/s), at step {last}")
     return 0
 
 
