@@ -32,6 +32,7 @@ def test_periodic_reference_runs_as_typed(tmp_path, ranks):
     # the paper's values: the TSG-PARAMETERS line and the meshes the defaults name
     parameters = dict(word.split("=", 1) for word in re.search(r"^TSG-PARAMETERS (.*)$", log, re.M).group(1).split())
     assert parameters["d_mean"] == "0.0004" and parameters["dt_fraction"] == "0.1" and parameters["rpm"] == "600"
+    assert parameters["gravity"] == "9.81"
     assert parameters["mus_pp"] == parameters["mus_pg"] == "0.5" and parameters["e_pp"] == parameters["e_pg"] == "0.5"
     assert parameters["mesh_dir"].endswith("build/meshes/consigma1-periodic-1um")
     count = int(re.search(r"variable fill_count equal (\d+)", FILL.read_text()).group(1))
