@@ -313,3 +313,19 @@ def test_gravity_variable_accelerates_the_resting_fill_as_free_fall(tmp_path, gr
         assert energy == 0.0
     else:
         assert energy == pytest.approx(0.5 * mass * (gravity * t) ** 2, rel=2e-3)
+
+
+def test_dump_from_starts_the_particle_dumps_there_and_leaves_the_trajectory_alone(tmp_path):
+    """-v dump_from S: the first particle dump at step S, then at multiples of dump_every; none before
+    (the periodic case dumps in its sampling run, here from step 40). Dumps only write, so the run's
+    thermo output equals that of the same run without dumps."""
+    common = (("t_startup", 1e-4), ("t_sample", 1e-4), ("thermo_every", 10))
+    run_case("periodic", tmp_path / "dumped", *common, ("dump_every", 10), ("dump_from", 55), extra=("--holdup-g", "0.3"))
+    run_case("periodic", tmp_path / "plain", *common, extra=("--holdup-g", "0.3"))
+    steps = sorted(int(re.search(r"particles_(\d+)\.vtk", p.name).group(1))
+                   for p in (tmp_path / "dumped" / "dumps").glob("particles_*.vtk") if "boundingBox" not in p.name)
+    last = int(parse_thermo((tmp_path / "dumped" / "log.lammps").read_text())[-1]["Step"][-1])
+    assert last > 60
+    assert steps == [55] + list(range(60, last + 1, 10))
+    dumped, plain = (parse_thermo((tmp_path / name / "log.lammps").read_text()) for name in ("dumped", "plain"))
+    assert [list(block["KinEng"]) for block in dumped] == [list(block["KinEng"]) for block in plain]

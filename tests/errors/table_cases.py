@@ -99,6 +99,7 @@ CASES: list[BadInput] = [
              "a negative speed turned the screws backwards silently"),
     *refused("periodic", "rpm", 0, ("> 0",), "0 rpm divided by zero in a stock message"),
     *refused("periodic", "screw_direction", 0, ("use 1", "or -1"), "the screws turn forwards or backwards"),
+    *refused("periodic", "dump_from", 100, ("only with dump_every >= 1",), "dumps from a step, but no dumps asked for"),
     *refused("periodic", "gravity", -9.81, ("0 <= g <= 1000", "along -z"), "gravity points along -z; its sign is the input's"),
     *refused("full", "gravity", 2000, ("0 <= g <= 1000",), "no granulator runs at 200 g"),
     *refused("periodic", "stats_every", 0, (">= 1",), "a window of no steps (stock message before)"),
