@@ -32,7 +32,7 @@ from tsg_cases import free_space
 from tsg_cases.case_parameters import CASE_DIR, defined_variables
 from tsg_cases.command_line import run_reporting
 from tsg_cases.progress import Heartbeat
-from tsg_meshes.build import tolerance_tag
+from tsg_meshes.build import exclusive_build, tolerance_tag
 from tsg_meshes.machine import read_machine
 
 ROOT = CASE_DIR.parent
@@ -202,8 +202,11 @@ def default_mesh_dir(case: str, values: dict[str, str]) -> Path:
 
 
 def build_meshes(mesh_dir: Path) -> None:
-    """The meshes the default mesh_dir names: consigma1-<case>-<tolerance>um (tsg_meshes.build)."""
-    if (mesh_dir / "zones.txt").is_file() and all((mesh_dir / m).is_file() for m in free_space.MESHES):
+    """The meshes the default mesh_dir names: consigma1-<case>-<tolerance>um (tsg_meshes.build), built
+    once however many callers start together (tsg_meshes.build.exclusive_build)."""
+    def complete() -> bool:
+        return (mesh_dir / "zones.txt").is_file() and all((mesh_dir / m).is_file() for m in free_space.MESHES)
+    if complete():
         return
     name = mesh_dir.name
     config, _, tag = name.rpartition("-")
@@ -212,9 +215,12 @@ def build_meshes(mesh_dir: Path) -> None:
     tolerance = float(tag[:-2]) * 1e-6
     if tolerance_tag(tolerance) != tag:
         raise PrepareError(f"mesh_dir {mesh_dir}: tolerance tag {tag} does not read back as {tolerance_tag(tolerance)}")
-    with Heartbeat(f"meshes {name}", expected="the full machine at 1 um: 135 s on 2 heavily loaded cores"):
-        proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(mesh_dir), "--tolerance", str(tolerance)],
-                              capture_output=True, text=True)
+    with exclusive_build(mesh_dir):
+        if complete():      # another caller built it while this one waited
+            return
+        with Heartbeat(f"meshes {name}", expected="the full machine at 1 um: 135 s on 2 heavily loaded cores"):
+            proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(mesh_dir), "--tolerance",
+                                   str(tolerance)], capture_output=True, text=True)
     if proc.returncode != 0:
         last = proc.stderr.strip().splitlines()[-1:] or ["no message"]
         raise PrepareError(f"building the meshes {mesh_dir} failed: {last[0]}")

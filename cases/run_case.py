@@ -31,7 +31,7 @@ from tsg_cases.command_line import run_reporting
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
 from tsg_cases.progress import Heartbeat, follow
 from tsg_cases.psd import size_classes
-from tsg_meshes.build import mesh_dir_name
+from tsg_meshes.build import exclusive_build, mesh_dir_name
 from tsg_meshes.machine import MACHINE_FILE, machine_file_complete
 from tsg_meshes.profile import profile_for_clearance
 
@@ -89,15 +89,16 @@ def build_meshes(config: str, tolerance: float, clearance: tuple[float | None, f
     (flight tip to barrel, screw to screw, spacer between staggered discs) in m, None (0 for the
     spacer) for the paper's."""
     out = ROOT / "build" / "meshes" / mesh_dir_name(config, tolerance, *clearance)
-    if not (out / "zones.txt").is_file() or not machine_file_complete(out):
-        options = ["--tolerance", str(tolerance)]
-        for option, value in zip(("--clearance", "--screw-clearance", "--disc-gap"), clearance):
-            options += [option, str(value)] if value else []
-        proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), *options],
-                              capture_output=True, text=True)
-        if proc.returncode != 0:
-            last = proc.stderr.strip().splitlines()[-1:] or ["no message"]
-            raise UserError(f"building the meshes {out} failed: {last[0]}")
+    with exclusive_build(out):      # runs started together build it once
+        if not (out / "zones.txt").is_file() or not machine_file_complete(out):
+            options = ["--tolerance", str(tolerance)]
+            for option, value in zip(("--clearance", "--screw-clearance", "--disc-gap"), clearance):
+                options += [option, str(value)] if value else []
+            proc = subprocess.run([sys.executable, "-m", "tsg_meshes", "build", config, str(out), *options],
+                                  capture_output=True, text=True)
+            if proc.returncode != 0:
+                last = proc.stderr.strip().splitlines()[-1:] or ["no message"]
+                raise UserError(f"building the meshes {out} failed: {last[0]}")
     return out
 
 

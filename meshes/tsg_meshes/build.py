@@ -2,6 +2,9 @@
 barrel.stl (ASCII, metres), zones.txt and machine.in (machine geometry, machine.py)."""
 from __future__ import annotations
 
+import fcntl
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -166,3 +169,18 @@ def build_all(outdir: Path | str) -> list[Path]:
         geometry = generate(configuration, tolerance)
         written += write_geometry(geometry, outdir / mesh_dir_name(configuration.name, tolerance))
     return written
+
+
+@contextmanager
+def exclusive_build(outdir: Path) -> Iterator[None]:
+    """Holds an exclusive lock on `<outdir>.lock` (beside it) while the caller checks whether a mesh
+    directory is complete and builds it: runs started together (ctest in parallel, a sweep on a
+    cluster) build a shared directory once, and none reads it half-written. An advisory lock
+    (flock): only callers that take it are kept out."""
+    outdir.parent.mkdir(parents=True, exist_ok=True)
+    with open(outdir.with_name(outdir.name + ".lock"), "w") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
