@@ -119,7 +119,11 @@ def _compare(args: argparse.Namespace) -> int:
     variants = {argument: _replicas(argument) for argument in args.run_dirs}
     if args.csv is not None and args.csv.is_dir():
         raise UsageError(f"--csv {args.csv}: is a directory; give a file name")
-    rows = compare_runs(reference, variants)
+    every = reference + [run_dir for run_dirs in variants.values() for run_dir in run_dirs]
+    start = None if args.start is None else max(_start("--start", args.start, run_dir) for run_dir in every)
+    if start is not None:
+        print(f"every run from t = {start:.4g} s" + (" (the latest detected steady start)" if args.start == "auto" else ""))
+    rows = compare_runs(reference, variants, start)
     print(sweep_markdown(rows), end="")
     if args.csv is not None:
         write_sweep_csv(rows, args.csv)
@@ -218,6 +222,8 @@ def parser() -> argparse.ArgumentParser:
     compare.add_argument("run_dirs", nargs="+", metavar="run_dir",
                          help="run directories to compare; replicas of one variant comma-separated")
     compare.add_argument("--csv", type=Path, help="also write the table as CSV")
+    compare.add_argument("--start", help="analyse every run from this time on, s, or 'auto': the latest of the runs' "
+                                         "detected steady starts (default: the whole sampling record)")
     compare.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     domains = commands.add_parser("domains", help="the periodic sub-domain against the full granulator")
     domains.add_argument("full_run", type=Path)

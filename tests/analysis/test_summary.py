@@ -105,3 +105,38 @@ def test_compare_command_line_with_replicas(tmp_path, periodic_run, full_run):
     assert proc.returncode == 0, proc.stderr
     assert "| variant | quantity |" in proc.stdout and f"{periodic_run[0]},{full_run[0]}" in proc.stdout
     assert csv_path.is_file() and "Traceback" not in proc.stderr
+
+
+def test_compare_command_line_window(tmp_path, periodic_run, unsteady_run):
+    """--start T analyses every run from T s on: the CLI's table is compare_runs(..., start=T), and on a
+    drifting run it differs from the whole record's."""
+    import csv
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    analysis = Path(__file__).resolve().parents[2] / "analysis"
+
+    def variant_means(*options: str) -> dict[tuple[str, str], float]:
+        csv_path = tmp_path / "window.csv"
+        proc = subprocess.run([sys.executable, "-m", "tsg_analysis", "compare", str(periodic_run[0]), str(unsteady_run[0]),
+                               "--csv", str(csv_path), *options], capture_output=True, encoding="utf-8",
+                              env=dict(os.environ, PYTHONPATH=str(analysis)))
+        assert proc.returncode == 0, proc.stderr
+        if options:
+            assert f"every run from t = {float(options[1]):.4g} s" in proc.stdout
+        with open(csv_path, encoding="utf-8") as stream:
+            return {(row["quantity"], row["scope"]): float(row["variant_mean"]) for row in csv.DictReader(stream)}
+
+    from tsg_analysis.validation import block_times
+
+    begins, _ = block_times(unsteady_run[0])
+    start = float(begins[len(begins) // 2])
+    windowed, whole = variant_means("--start", f"{start}"), variant_means()
+    expected = {(r.quantity, r.scope): r.value.mean
+                for r in compare_runs([periodic_run[0]], {"u": [unsteady_run[0]]}, start)}
+    assert windowed.keys() == expected.keys()
+    for key, mean in expected.items():
+        assert windowed[key] == pytest.approx(mean, rel=1e-9, abs=1e-12)
+    assert any(abs(windowed[key] - whole[key]) > 1e-6 * max(1.0, abs(whole[key])) for key in windowed)
