@@ -9,7 +9,8 @@
     python -m tsg_cases.progress follow RUN_DIR [--total-time S]   # follow a run started elsewhere
     python -m tsg_cases.progress wait [--every S] LABEL -- COMMAND ...   # COMMAND with a heartbeat line
 
-Each line: simulated time and percent of the planned time, ETA, step, particles, escaped particles
+Each line: simulated time and percent of the planned time, ETA, step, particles, escaped particles,
+fast events (particles released from a squeeze faster than guard_fast_speed, counted: `fast`)
 and the overlap monitors of cases/include/thermo.in (largest pair overlap/radius `pp_max`, largest
 wall overlap/radius against screw 1, screw 2 and the barrel `pg_scr1/pg_scr2/pg_bar`), and how old
 the last thermo row is: LIGGGHTS writes a row every thermo_every steps only, so at the paper scale
@@ -137,6 +138,8 @@ class Progress:
                  f"step {int(row['Step'])}", f"{int(row['Atoms'])} particles"]
         if "escaped" in row:
             parts.append(f"escaped {int(row['escaped'])}")
+        if "fast" in row:
+            parts.append(f"fast events {int(row['fast'])}")
         if all(name in row for name in MONITORS):
             parts.append(f"overlap/R pair {row['pp_max']:.3g}, walls {row['pg_scr1']:.3g}/{row['pg_scr2']:.3g}/"
                          f"{row['pg_bar']:.3g} (screw 1/screw 2/barrel)")

@@ -15,6 +15,7 @@
 #include "fix_property_global.h"
 #include "fix_wall_gran.h"
 #include "force.h"
+#include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
 #include "pair.h"
@@ -29,6 +30,7 @@ using namespace LAMMPS_NS;
 namespace {
 
 constexpr int kFixedOutputs = 5;  // pair δ/R run and now, estimate, dt/estimate, speed
+constexpr int kFastEventsNamed = 10;  // fast_speed events named in the log; the rest are counted
 
 std::string number(double v)
 {
@@ -46,7 +48,8 @@ struct ValueRank {  // layout of MPI_DOUBLE_INT
 
 FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), check_every_(1000), step_fraction_(0.2), error_on_violation_(true), warned_(false),
-      max_speed_(0), max_pair_overlap_(0), max_wall_overlap_(0), walls_(nullptr), corotating_walls_(nullptr),
+      max_speed_(0), fast_speed_(0), above_fast_(nullptr), fast_events_(0), fast_events_local_(0),
+      fast_events_named_(0), fast_event_to_name_(-1), max_pair_overlap_(0), max_wall_overlap_(0), walls_(nullptr), corotating_walls_(nullptr),
       max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), max_speed_squared_window_(0), max_speed_now_(0),
       estimate_(0), youngs_modulus_(nullptr), poisson_ratio_(nullptr), plasticity_ratio_(nullptr)
 {
@@ -89,6 +92,8 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
         fail(std::string("action = ") + value + " must be 'error' or 'warn'");
     } else if (key == "max_speed") {
       max_speed_ = positive_number(key, value, "(0, inf) m/s");
+    } else if (key == "fast_speed") {
+      fast_speed_ = positive_number(key, value, "(0, inf) m/s");
     } else if (key == "max_pair_overlap") {
       max_pair_overlap_ = positive_number(key, value, "(0, inf) (overlap / radius)");
     } else if (key == "max_wall_overlap") {
@@ -97,10 +102,13 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
       wall_fix_id_ = value;
     } else {
       fail("unknown keyword '" + key +
-           "' (allowed: every, pair_every, step_fraction, action, max_speed, max_pair_overlap, walls, "
+           "' (allowed: every, pair_every, step_fraction, action, max_speed, fast_speed, max_pair_overlap, walls, "
            "max_wall_overlap)");
     }
   }
+  if (fast_speed_ > 0 && max_speed_ > 0 && !(fast_speed_ < max_speed_))
+    fail("fast_speed = " + number(fast_speed_) + " m/s must be below max_speed = " + number(max_speed_) +
+         " m/s (the events it counts are the speeds between them)");
   if (pair_every_ == 0) pair_every_ = check_every_;
   if (max_wall_overlap_ > 0 && wall_fix_id_.empty())
     fail("max_wall_overlap needs 'walls <ID of a fix wall/gran with meshes>'");
@@ -114,10 +122,69 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
   }
   nevery = 1;  // the motion guard runs every step; the rest every check_every_ steps
   vector_flag = 1;
-  size_vector = kFixedOutputs + static_cast<int>(mesh_ids_.size());
+  size_vector = kFixedOutputs + static_cast<int>(mesh_ids_.size()) + 1;
   global_freq = 1;  // outputs hold the last check's values at any step (thermo at the end of a run)
   extvector = 0;
+  restart_global = 1;     // the event count
+  restart_peratom = 1;    // above_fast_: an excursion across a restart is one event
+  create_attribute = 1;   // set_arrays for inserted particles
+  grow_arrays(atom->nmax);
+  for (int i = 0; i < atom->nmax; ++i) set_arrays(i);
+  atom->add_callback(0);  // above_fast_ migrates with its particle
+  atom->add_callback(1);  // and goes into restart files
 }
+
+FixCheckContact::~FixCheckContact()
+{
+  atom->delete_callback(id, 0);
+  atom->delete_callback(id, 1);
+  memory->destroy(above_fast_);
+}
+
+void FixCheckContact::grow_arrays(int nmax) { memory->grow(above_fast_, nmax, "check/contact:above_fast"); }
+
+void FixCheckContact::copy_arrays(int i, int j, int) { above_fast_[j] = above_fast_[i]; }
+
+void FixCheckContact::set_arrays(int i) { above_fast_[i] = 0; }
+
+int FixCheckContact::pack_exchange(int i, double *buf)
+{
+  buf[0] = above_fast_[i];
+  return 1;
+}
+
+int FixCheckContact::unpack_exchange(int nlocal, double *buf)
+{
+  above_fast_[nlocal] = buf[0];
+  return 1;
+}
+
+// per particle in a restart file: the block size, then the flag
+int FixCheckContact::pack_restart(int i, double *buf)
+{
+  buf[0] = 2;
+  buf[1] = above_fast_[i];
+  return 2;
+}
+
+void FixCheckContact::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
+  above_fast_[nlocal] = extra[nlocal][m + 1];
+}
+
+void FixCheckContact::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  const double data[1] = {fast_events_};
+  const int size = sizeof(data);
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(data, sizeof(double), 1, fp);
+}
+
+void FixCheckContact::restart(char *buf) { fast_events_ = reinterpret_cast<const double *>(buf)[0]; }
 
 int FixCheckContact::setmask() { return FixConst::END_OF_STEP; }
 
@@ -166,6 +233,10 @@ void FixCheckContact::check()
   MPI_Allreduce(&max_speed_squared_window_, &window, 1, MPI_DOUBLE, MPI_MAX, world);
   max_speed_now_ = std::sqrt(window);
   max_speed_squared_window_ = 0;
+  double new_events = 0;
+  MPI_Allreduce(&fast_events_local_, &new_events, 1, MPI_DOUBLE, MPI_SUM, world);
+  fast_events_ += new_events;
+  fast_events_local_ = 0;
 }
 
 // Smallest Rayleigh time over all particles (each with its own radius, density and material),
@@ -222,22 +293,30 @@ void FixCheckContact::check_time_step()
   }
 }
 
-// Every step: a non-finite position, velocity or force, or a particle faster than max_speed.
-// The common case costs one pass without branches on the values: NaN and infinity propagate
-// through a sum, so one finite sum clears every particle; only a non-finite sum (or a speed above
-// the bound) sends a second pass looking for the particle.
+// Every step: a non-finite position, velocity or force, or a particle faster than max_speed; and
+// the fast_speed events. The common case costs one pass without branches on the values: NaN and
+// infinity propagate through a sum, so one finite sum clears every particle; only a non-finite sum
+// (or a speed above the bound) sends a second pass looking for the particle.
 void FixCheckContact::check_motion()
 {
   double **x = atom->x, **v = atom->v, **f = atom->f;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
+  const double fast_squared = fast_speed_ > 0 ? fast_speed_ * fast_speed_ : INFINITY;
   double sum = 0;
   double largest = max_speed_squared_window_;
+  fast_event_to_name_ = -1;
   for (int i = 0; i < nlocal; ++i) {
     if (!(mask[i] & groupbit)) continue;
     const double speed_squared = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
     sum += x[i][0] + x[i][1] + x[i][2] + f[i][0] + f[i][1] + f[i][2] + speed_squared;
     largest = std::max(largest, speed_squared);
+    const double above = speed_squared > fast_squared ? 1.0 : 0.0;
+    if (above > above_fast_[i]) {  // a new excursion above fast_speed
+      fast_events_local_ += 1;
+      if (fast_event_to_name_ < 0) fast_event_to_name_ = i;
+    }
+    above_fast_[i] = above;
   }
   int bad = -1;
   if (!std::isfinite(sum))  // a non-finite value, or finite values too large to add: look
@@ -252,28 +331,45 @@ void FixCheckContact::check_motion()
     for (int i = 0; i < nlocal && bad < 0; ++i)
       if ((mask[i] & groupbit) && v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2] > max_speed_ * max_speed_)
         bad = i;
-  int mine[2] = {bad >= 0 ? (too_fast ? 1 : 2) : 0, comm->me}, worst[2] = {0, 0};
+  // what this rank has to say, most serious first: 3 non-finite, 2 too fast, 1 a fast_speed event to name
+  const bool name_event = fast_event_to_name_ >= 0 && fast_events_named_ < kFastEventsNamed;
+  int mine[2] = {bad >= 0 ? (too_fast ? 2 : 3) : (name_event ? 1 : 0), comm->me}, worst[2] = {0, 0};
   MPI_Allreduce(mine, worst, 1, MPI_2INT, MPI_MAXLOC, world);
   if (worst[0] == 0) return;
+  auto speed_of = [&](int i) { return std::sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]); };
   std::string message;
   if (comm->me == worst[1]) {
+    const int who_index = worst[0] == 1 ? fast_event_to_name_ : bad;
     const std::string who = "step " + std::to_string(static_cast<long long>(update->ntimestep)) + ": particle " +
-                            std::to_string(static_cast<long long>(atom->tag[bad]));
+                            std::to_string(static_cast<long long>(atom->tag[who_index]));
     auto triple = [](const double *a) {
       return "(" + number(a[0]) + ", " + number(a[1]) + ", " + number(a[2]) + ")";
     };
-    if (worst[0] == 2)
+    if (worst[0] == 3)
       message = "check/contact: " + who + " has a non-finite position, velocity or force: x " + triple(x[bad]) +
                 " m, v " + triple(v[bad]) + " m/s, f " + triple(f[bad]) + " N; " + contacts_of(bad);
-    else
-      message = "check/contact: " + who + " moves at " +
-                number(std::sqrt(v[bad][0] * v[bad][0] + v[bad][1] * v[bad][1] + v[bad][2] * v[bad][2])) +
-                " m/s, above max_speed = " + number(max_speed_) +
+    else if (worst[0] == 2)
+      message = "check/contact: " + who + " moves at " + number(speed_of(bad)) + " m/s, above max_speed = " +
+                number(max_speed_) +
                 " m/s (kinetic energy blow-up: time step too large for the contact stiffness, or a particle "
                 "crushed between walls); " +
                 contacts_of(bad);
+    else
+      message = "check/contact: fast_speed event " + std::to_string(fast_events_named_ + 1) + " (of the first " +
+                std::to_string(kFastEventsNamed) + " named): " + who + " moves at " +
+                number(speed_of(fast_event_to_name_)) + " m/s, above fast_speed = " + number(fast_speed_) +
+                " m/s; " + contacts_of(fast_event_to_name_) +
+                " (counted, not stopped: a release from a squeeze, docs/stability.md)";
   }
-  stop_at(worst[1], message);
+  if (worst[0] > 1) stop_at(worst[1], message);
+  char text[1024] = {0};
+  if (comm->me == worst[1]) strncpy(text, message.c_str(), sizeof text - 1);
+  MPI_Bcast(text, sizeof text, MPI_CHAR, worst[1], world);
+  ++fast_events_named_;
+  if (comm->me == 0) {
+    if (screen) fprintf(screen, "%s\n", text);
+    if (logfile) fprintf(logfile, "%s\n", text);
+  }
 }
 
 // Deepest particle-particle contact over the pair style's neighbour list (only_atom >= 0: the
@@ -428,6 +524,7 @@ double FixCheckContact::compute_vector(int n)
     case 4:
       return max_speed_now_;
     default:
+      if (n == kFixedOutputs + static_cast<int>(wall_overlap_now_.size())) return fast_events_;
       return wall_overlap_now_[n - kFixedOutputs];
   }
 }

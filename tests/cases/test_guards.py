@@ -170,7 +170,7 @@ set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
 fix integr all nve/sphere
 timestep {dt!r}
 fix check all check/contact every 10 {guard}
-thermo_style custom step atoms ke f_check[2] f_check[5]
+thermo_style custom step atoms ke f_check[2] f_check[5] f_check[6]
 thermo_modify format float %.15g norm no
 thermo 10
 run {nsteps}
@@ -205,6 +205,59 @@ def test_energy_blow_up_stops_with_the_particle(tmp_path):
     assert "check/contact: step 1: particle 1 moves at" in run.log, run.log[-2000:]
     assert "above max_speed = 0.5 m/s" in run.log
     assert 0.5 > 2 * released_speed()   # the bound is well above the physical speed
+
+
+@pytest.mark.parametrize("fraction, events", [(0.9, 2), (1.1, 0)])
+def test_fast_particles_are_counted_not_stopped(tmp_path, fraction, events):
+    """fast_speed a little below the release speed of the closed form: both spheres are one event
+    each, named in the log, and the run goes on; a little above it: none."""
+    speed = released_speed()
+    guard = f"fast_speed {fraction * speed!r} max_speed {2 * speed!r}"
+    run = run_lmp(two_overlapping_spheres(0.1 * RAYLEIGH, guard, 2000), tmp_path)
+    run.assert_clean()
+    assert run.thermo[-1]["check[6]"][-1] == events          # f_ID[6]: no walls, so the events follow speed
+    named = [line for line in run.log.splitlines() if "fast_speed event" in line]
+    assert len(named) == min(events, 1)      # both start in the same step: one name per step
+    if events:
+        assert "fast_speed event 1 (of the first 10 named): step " in named[0]
+        assert named[0].split("particle ")[1].split()[0] in {"1", "2"}
+
+
+def test_fast_events_survive_a_restart_file(tmp_path):
+    """The count and each particle's state go into the restart file: the two spheres, still above
+    fast_speed when read back, are not counted again. (The spheres are apart by then: the continued
+    run needs no contact history, which LIGGGHTS' restart of two lone spheres overflows.)"""
+    speed = released_speed()
+    guard = f"fast_speed {0.9 * speed!r} max_speed {2 * speed!r}"
+    text = two_overlapping_spheres(0.1 * RAYLEIGH, guard, 2000) + f"""write_restart two.restart
+clear
+read_restart two.restart
+newton        off
+communicate single vel yes
+neighbor      0.0005 bin
+neigh_modify  delay 0
+fix m1 all property/global youngsModulus peratomtype 5.0e7
+fix m2 all property/global poissonsRatio peratomtype 0.25
+fix m3 all property/global coefficientRestitution peratomtypepair 1 1.0
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+pair_style gran model hertz tangential no_history
+pair_coeff * *
+fix integr all nve/sphere
+fix check all check/contact every 10 {guard}
+thermo_style custom step atoms ke f_check[2] f_check[5] f_check[6]
+thermo_modify format float %.15g norm no
+thermo 10
+run 100
+"""
+    run = run_lmp(text, tmp_path)
+    run.assert_clean()
+    assert run.thermo[-1]["check[5]"][-1] > 0.9 * speed      # still above fast_speed after the restart
+    assert run.thermo[-1]["check[6]"][0] == 2 and run.thermo[-1]["check[6]"][-1] == 2
+
+
+def test_fast_speed_must_be_below_max_speed(tmp_path):
+    run = run_lmp(two_overlapping_spheres(0.1 * RAYLEIGH, "fast_speed 2 max_speed 1", 10), tmp_path, expect_error=True)
+    assert "fast_speed = 2 m/s must be below max_speed = 1 m/s" in run.log
 
 
 def test_time_step_above_the_fraction_is_an_error_by_default(tmp_path):

@@ -51,10 +51,10 @@ def test_percent_and_eta_against_the_closed_form():
     assert progress.rate() == pytest.approx(5e-4)
     # 0.08 s left at 5e-4 s/s = 160 s after the row; 10 s of it have passed since
     assert progress.eta(wall=150.0) == pytest.approx(150.0)
-    line = progress.line({"Step": 4000, "Time": 0.02, "Atoms": 3453, "escaped": 1, "pp_max": 0.125, "pg_scr1": 0.25,
-                          "pg_scr2": 0.5, "pg_bar": 0.75}, wall=150.0, started=90.0)
+    line = progress.line({"Step": 4000, "Time": 0.02, "Atoms": 3453, "escaped": 1, "fast": 3, "pp_max": 0.125,
+                          "pg_scr1": 0.25, "pg_scr2": 0.5, "pg_bar": 0.75}, wall=150.0, started=90.0)
     assert "t = 0.02 of 0.1 s (20.0 %)" in line and "ETA 2 min 30 s" in line and "step 4000" in line
-    assert "3453 particles" in line and "escaped 1" in line
+    assert "3453 particles" in line and "escaped 1" in line and "fast events 3" in line
     assert "overlap/R pair 0.125, walls 0.25/0.5/0.75" in line and "row 10 s old" in line
     assert Progress(None).line(None, wall=30.0, started=0.0).endswith("setting up (meshes, particles): 30 s since the start")
 

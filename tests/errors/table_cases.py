@@ -58,6 +58,11 @@ CASES: list[BadInput] = [
              why="a value that is not a number", command=runner("periodic", "-v", "rpm", "abc")),
     BadInput("cases.run.nan", ("-v rho_p nan", "not a number"),
              why="NaN passes every comparison unnoticed", command=runner("periodic", "-v", "rho_p", "nan")),
+    BadInput("cases.lmp.periodic.guard_fast_speed-above-guard_max_speed",
+             ("ERROR:", "guard_fast_speed = 10 m/s is not allowed with guard_max_speed = 5 m/s", "lower guard_fast_speed too"),
+             why="a stricter speed guard alone would leave no speeds to count events in (guards.in; after the meshes "
+                 "and the fill are read)",
+             command=lmp("periodic", guard_max_speed=5, guard_fast_speed=10)),
     # runner options, checked before the meshes and the fill
     BadInput("cases.run.holdup-negative", ("--holdup-g -1", "0 < mass < 100"),
              why="a negative hold-up mass (numpy ValueError before)", command=runner("periodic", "--holdup-g", "-1")),
