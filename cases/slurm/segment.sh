@@ -20,7 +20,8 @@
 #
 # Environment: TSG_OUT (default runs/<case>-cluster), TSG_LMP (default build/lmp), TSG_LAUNCH (the MPI
 # launcher, default "srun"; "" runs lmp directly), TSG_RESTART_EVERY (steps, default 20000),
-# TSG_VARS (more -var NAME VALUE for lmp), TSG_SBATCH (default sbatch).
+# TSG_VARS (more -var NAME VALUE for lmp), TSG_WALL_OVERLAP (guard_max_wall_overlap, if set),
+# TSG_SBATCH (default sbatch).
 set -euo pipefail
 case_name="$1"
 job_script="$2"
@@ -53,6 +54,8 @@ for step in $(find "$out" -maxdepth 1 -name 'restart.*' -printf '%f\n' | sed 's/
 done
 
 vars=(-var out_dir "$out" -var procs_x "$ranks" -var restart_every "$restart_every")
+# the wall-overlap guard for a machine that squeezes its particles (the job scripts set it; docs/cluster.md)
+[ -n "${TSG_WALL_OVERLAP:-}" ] && vars+=(-var guard_max_wall_overlap "$TSG_WALL_OVERLAP")
 if [ -n "$restart" ]; then
   step="${restart##*.}"
   if [ -f "$out/last-restart" ] && [ "$(cat "$out/last-restart")" = "$step" ]; then

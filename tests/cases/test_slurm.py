@@ -184,3 +184,16 @@ def test_a_full_case_run_killed_in_start_up_and_in_sampling_equals_one_run(tmp_p
     assert sorted(merged) == sorted(single) and len(single) >= 5
     for step in single:
         np.testing.assert_allclose(merged[step], single[step], rtol=1e-9, atol=1e-15, err_msg=f"step {step}")
+
+
+def test_the_job_scripts_wall_overlap_reaches_the_guard(tmp_path):
+    """TSG_WALL_OVERLAP (0.9 in the paper-scale job scripts: their machine squeezes its particles)
+    becomes the case's guard_max_wall_overlap: a value the guard cannot take is refused by name."""
+    for script in ("tsg-periodic.slurm", "tsg-full.slurm"):
+        assert 'export TSG_WALL_OVERLAP="${TSG_WALL_OVERLAP:-0.9}"' in (SEGMENT.parent / script).read_text()
+    out = tmp_path / "out"
+    env = dict(environment(tmp_path, out, 401, 100 * DT), TSG_WALL_OVERLAP="-0.9")
+    proc = segment(env)
+    text = proc.communicate(timeout=600)[0] + (out / "log.lammps").read_text(errors="replace")
+    assert "guard_max_wall_overlap = -0.9 is not allowed" in text, text[-3000:]
+    assert (out / "FAILED").is_file()

@@ -63,6 +63,10 @@ CASES: list[BadInput] = [
              why="a stricter speed guard alone would leave no speeds to count events in (guards.in; after the meshes "
                  "and the fill are read)",
              command=lmp("periodic", guard_max_speed=5, guard_fast_speed=10)),
+    BadInput("cases.lmp.periodic.guard_max_wall_overlap=0", ("ERROR:", "guard_max_wall_overlap = 0 is not allowed",
+                                                                "overlap / radius, > 0"),
+             why="a wall-overlap bound of 0 stops at the first wall contact (and entered the guard's speed formula)",
+             command=lmp("periodic", guard_max_wall_overlap=0)),
     # runner options, checked before the meshes and the fill
     BadInput("cases.run.holdup-negative", ("--holdup-g -1", "0 < mass < 100"),
              why="a negative hold-up mass (numpy ValueError before)", command=runner("periodic", "--holdup-g", "-1")),
