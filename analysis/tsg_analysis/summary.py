@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .liggghts_log import parse_thermo
 from .massflow import sensor_flows, step_clock
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS
 from .parameters import RunParameters, read_run_parameters
@@ -118,6 +119,27 @@ def _start(value: float | None) -> str:
     return "-" if value is None else f"{value:.4g}"
 
 
+def contact_health(run_dir: Path | str) -> str | None:
+    """What the guards of fix check/contact saw over the run, from its thermo columns
+    (cases/include/thermo.in): squeeze releases counted (`fast`), the largest wall overlap/R
+    (`pg_*`) and particle speed; None when the log has none of them."""
+    log = Path(run_dir) / "log.lammps"
+    if not log.is_file():
+        return None
+    blocks = [b for b in parse_thermo(log.read_text(errors="replace")) if b]
+
+    def largest(prefix: str) -> float | None:
+        values = [v.max() for b in blocks for name, v in b.items() if name.startswith(prefix) and v.size]
+        return float(max(values)) if values else None
+    fast, wall, speed = largest("fast"), largest("pg_"), largest("speed")
+    if fast is None and wall is None:
+        return None
+    parts = [f"{int(fast)} squeeze releases (particles faster than guard_fast_speed, counted)"] if fast is not None else []
+    parts += [f"largest wall overlap/R {wall:.3g}"] if wall is not None else []
+    parts += [f"largest speed {speed:.3g} m/s"] if speed is not None else []
+    return "contacts over the run: " + ", ".join(parts)
+
+
 def summary_table(run_dir: Path | str) -> str:
     """The runner's summary: one line per quantity, mean ± 95 % interval or why there is none."""
     summary = summarise(run_dir)
@@ -125,6 +147,9 @@ def summary_table(run_dir: Path | str) -> str:
     if summary.parameters is not None:
         p = summary.parameters
         lines.append(f"parameters ({p.source}): {p.rpm:g} rpm, rho_p {p.rho_p:g} kg/m3, d_mean {p.d_mean:g} m")
+    health = contact_health(run_dir)
+    if health is not None:
+        lines.append(health)
     lines.append("mean ± 95 % confidence interval over the sampling window (independent samples; 'drifting': "
                  "the window's halves differ; stationary from: detected start vs window start)")
     for quantity, unit in UNITS.items():

@@ -140,3 +140,18 @@ def test_compare_command_line_window(tmp_path, periodic_run, unsteady_run):
     for key, mean in expected.items():
         assert windowed[key] == pytest.approx(mean, rel=1e-9, abs=1e-12)
     assert any(abs(windowed[key] - whole[key]) > 1e-6 * max(1.0, abs(whole[key])) for key in windowed)
+
+
+def test_contact_health_reads_the_guards_columns(tmp_path):
+    """The squeeze releases counted by check/contact (cumulative: the largest value), the largest
+    wall overlap over the three meshes and the largest speed, over every thermo block."""
+    from tsg_analysis.summary import contact_health
+
+    header = "Step Time Atoms KinEng pp_max dt_ratio speed pg_scr1 pg_scr2 pg_bar fast escaped CPU\n"
+    log = ("LIGGGHTS\n" + header + "0 0 10 0 0 0.1 1.0 0.01 0.02 0.03 0 0 0\n2000 0.001 10 0 0 0.1 9.5 0.2 0.1 0.05 3 0 1\n"
+           "Loop time of 1 on 1 procs\n" + header + "4000 0.002 10 0 0 0.1 2.0 0.05 0.3 0.05 5 0 2\nLoop time of 1\n")
+    (tmp_path / "log.lammps").write_text(log)
+    assert contact_health(tmp_path) == ("contacts over the run: 5 squeeze releases (particles faster than "
+                                        "guard_fast_speed, counted), largest wall overlap/R 0.3, largest speed 9.5 m/s")
+    (tmp_path / "log.lammps").write_text("LIGGGHTS\nStep Time Atoms\n0 0 10\nLoop time of 1\n")
+    assert contact_health(tmp_path) is None
