@@ -1,9 +1,10 @@
 """The particle-size ladder at steady state: each size against the next finer one (issue 18, item 1).
 
-    .venv/bin/python scripts/size-ladder.py START SIZE=RUN,RUN,... [SIZE=RUN,...] [--out FILE.md]
+    .venv/bin/python scripts/size-ladder.py START|auto SIZE=RUN,RUN,... [SIZE=RUN,...] [--out FILE.md]
 
 SIZE is a label (e.g. 0.6mm), listed from the finest to the coarsest; the runs of a size are its
-replicas (fill seeds). Every run is analysed from START s on. Prints (and writes with --out) two
+replicas (fill seeds). Every run is analysed from START s on (auto: the latest detected start of
+stationarity of the domain flux over all the runs, tsg_analysis.validation.steady_start). Prints (and writes with --out) two
 Markdown tables:
 - per size: the domain flux and, per element, the solid fraction and axial velocity, each replicas
   combined ± 95 % (tsg_analysis.summary.combined_rows);
@@ -22,6 +23,7 @@ from pathlib import Path
 from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
 from tsg_analysis.summary import combined_rows, compare_runs
 from tsg_analysis.uncertainty import format_interval
+from tsg_analysis.validation import steady_start
 
 QUANTITIES = (SOLID_FRACTION, AXIAL_VELOCITY)
 
@@ -43,11 +45,18 @@ def element_scopes(rows: dict) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("start", type=float)
+    parser.add_argument("start")
     parser.add_argument("sizes", nargs="+", type=parse_size)
     parser.add_argument("--out", type=Path)
     args = parser.parse_args(argv)
     sizes: list[tuple[str, list[Path]]] = args.sizes
+    if args.start == "auto":
+        starts = [steady_start(run) for _, runs in sizes for run in runs]
+        if any(start is None for start in starts):
+            raise SystemExit("auto: a run's record is too short to detect its steady start; give START in s")
+        args.start = max(s for s in starts if s is not None)
+    else:
+        args.start = float(args.start)
     combined = {label: combined_rows(runs, args.start) for label, runs in sizes}
     scopes = element_scopes(combined[sizes[0][0]])
 
@@ -55,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
         text = format_interval(estimate.mean, estimate.half_width)
         return text if estimate.resolved else text + " *"
 
-    lines = [f"Every run from t = {args.start:g} s; replicas combined, ± 95 % (* indicative: too few replicas "
+    lines = [f"Every run from t = {args.start:.4g} s; replicas combined, ± 95 % (* indicative: too few replicas "
              "or independent samples).", ""]
     for title, quantity in (("domain flux (kg/h)", None), *((q, q) for q in QUANTITIES)):
         columns = ["domain"] if quantity is None else scopes
