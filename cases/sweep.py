@@ -258,7 +258,7 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
     from tsg_analysis.figures import plot_element_panels, plot_paper_mass_flow
     from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
     from tsg_analysis.run_files import AnalysisInputError
-    from tsg_analysis.summary import compare_runs, sweep_markdown, write_sweep_csv
+    from tsg_analysis.summary import compare_runs, sweep_markdown, thermo_largest, write_sweep_csv
     from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown, flux_parts, parts_markdown
 
     settings: dict[str, list[Path]] = {}
@@ -284,9 +284,14 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
     counts = ", ".join(f"{name} {len(runs)}/{sum(1 for n in dirs if n.split('/')[0] == name)}"
                        for name, runs in settings.items())
     failed = [f"{name} ({state(d)})" for name, d in dirs.items() if state(d).startswith("failed")]
+    releases = {name: [thermo_largest(d, "fast") for d in runs] for name, runs in settings.items() if runs}
+    counted = "; ".join(f"{name} {', '.join('-' if n is None else str(int(n)) for n in values)}"
+                        for name, values in releases.items())
     header = f"Sweep {sweep}: finished runs per setting (replicas combined): {counts}." + (
         f" Failed, left out: {', '.join(failed)}." if failed else "") + f" Window: {window}." + (
-        f" {detection}." if detection else "") + "\n\n"
+        f" {detection}." if detection else "") + (
+        f" Squeeze releases counted per run (check/contact fast_speed; '-': not counted): {counted}." if any(
+            n is not None for values in releases.values() for n in values) else "") + "\n\n"
     (out / "comparison.md").write_text(header + sweep_markdown(rows), encoding="utf-8")
     write_sweep_csv(rows, out / "comparison.csv")
     verdicts = directions(rows)

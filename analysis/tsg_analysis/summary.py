@@ -119,19 +119,22 @@ def _start(value: float | None) -> str:
     return "-" if value is None else f"{value:.4g}"
 
 
-def contact_health(run_dir: Path | str) -> str | None:
-    """What the guards of fix check/contact saw over the run, from its thermo columns
-    (cases/include/thermo.in): squeeze releases counted (`fast`), the largest wall overlap/R
-    (`pg_*`) and particle speed; None when the log has none of them."""
+def thermo_largest(run_dir: Path | str, prefix: str) -> float | None:
+    """The largest value of the log's thermo columns whose names start with `prefix`, over every
+    block; None without such a column (or without log.lammps)."""
     log = Path(run_dir) / "log.lammps"
     if not log.is_file():
         return None
-    blocks = [b for b in parse_thermo(log.read_text(errors="replace")) if b]
+    values = [v.max() for b in parse_thermo(log.read_text(errors="replace")) for name, v in b.items()
+              if name.startswith(prefix) and v.size]
+    return float(max(values)) if values else None
 
-    def largest(prefix: str) -> float | None:
-        values = [v.max() for b in blocks for name, v in b.items() if name.startswith(prefix) and v.size]
-        return float(max(values)) if values else None
-    fast, wall, speed = largest("fast"), largest("pg_"), largest("speed")
+
+def contact_health(run_dir: Path | str) -> str | None:
+    """What the guards of fix check/contact saw over the run, from its thermo columns
+    (cases/include/thermo.in): squeeze releases counted (`fast`, cumulative), the largest wall
+    overlap/R (`pg_*`) and particle speed; None when the log has none of them."""
+    fast, wall, speed = (thermo_largest(run_dir, prefix) for prefix in ("fast", "pg_", "speed"))
     if fast is None and wall is None:
         return None
     parts = [f"{int(fast)} squeeze releases (particles faster than guard_fast_speed, counted)"] if fast is not None else []

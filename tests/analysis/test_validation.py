@@ -82,9 +82,14 @@ def test_sweep_with_replicas_reports_differences_and_directions(tmp_path):
         (run_dir / "elements.txt").write_text("\n".join(lines) + "\n")
         if name != "cohesion-high/seed-3":  # a run that has not finished is left out
             (run_dir / "DONE").touch()
+    # one run counted 4 squeeze releases (check/contact's thermo column fast, cumulative)
+    with open(tmp_path / "static-friction-0.1" / "seed-2" / "log.lammps", "a") as log:
+        log.write("Step fast\n0 0\n100 4\nLoop time of 1 on 1 procs for 100 steps\n")
     proc = subprocess.run([*sweep, "report", str(tmp_path)], capture_output=True, text=True, encoding="utf-8", env=env)
     assert proc.returncode == 0, proc.stderr
     assert "reference 3/3, static-friction-0.1 3/3, cohesion-high 2/3" in proc.stdout
+    assert "Squeeze releases counted per run (check/contact fast_speed; '-': not counted): reference -, -, -; " \
+           "static-friction-0.1 -, 4, -; cohesion-high -, -." in proc.stdout
     assert "| static-friction-0.1 | mass flow domain flux Σ m v_x / L | + | + | yes |" in proc.stdout
     assert "| static-friction-0.1 | axial velocity kneading | + | + | yes |" in proc.stdout
     assert "| static-friction-0.1 | solid fraction kneading | − | − | yes |" in proc.stdout
