@@ -223,6 +223,22 @@ def test_fast_particles_are_counted_not_stopped(tmp_path, fraction, events):
         assert named[0].split("particle ")[1].split()[0] in {"1", "2"}
 
 
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_a_fast_particle_crossing_to_another_rank_is_one_event(tmp_path, nprocs):
+    """Sphere 2 is released towards +x and crosses x = 0, the boundary between two ranks, while
+    above fast_speed: its state goes with it, so the two spheres stay two events."""
+    speed = released_speed()
+    guard = f"fast_speed {0.9 * speed!r} max_speed {2 * speed!r}"
+    text = two_overlapping_spheres(0.1 * RAYLEIGH, guard, 2000).replace(
+        "create_atoms 1 single -0.00099 0 0", "create_atoms 1 single -0.00297 0 0").replace(
+        "create_atoms 1 single  0.00099 0 0", "create_atoms 1 single -0.00099 0 0").replace(
+        "create_box", "processors * 1 1\ncreate_box", 1) + "variable x2 equal x[2]\nprint \"sphere 2 at x = ${x2}\"\n"
+    run = run_lmp(text, tmp_path, nprocs=nprocs)
+    run.assert_clean()
+    assert float(run.log.split("sphere 2 at x = ")[-1].split()[0]) > 0.0005     # it crossed x = 0
+    assert run.thermo[-1]["check[6]"][-1] == 2
+
+
 def test_fast_events_survive_a_restart_file(tmp_path):
     """The count and each particle's state go into the restart file: the two spheres, still above
     fast_speed when read back, are not counted again. (The spheres are apart by then: the continued
