@@ -29,7 +29,7 @@ using namespace LAMMPS_NS;
 
 namespace {
 
-constexpr int kFixedOutputs = 5;  // pair δ/R run and now, estimate, dt/estimate, speed
+constexpr int kFixedOutputs = 5;      // pair δ/R run and now, estimate, dt/estimate, speed
 constexpr int kFastEventsNamed = 10;  // fast_speed events named in the log; the rest are counted
 
 std::string number(double v)
@@ -49,9 +49,9 @@ struct ValueRank {  // layout of MPI_DOUBLE_INT
 FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), check_every_(1000), step_fraction_(0.2), error_on_violation_(true), warned_(false),
       max_speed_(0), fast_speed_(0), above_fast_(nullptr), fast_events_(0), fast_events_local_(0),
-      fast_events_named_(0), fast_event_to_name_(-1), max_pair_overlap_(0), max_wall_overlap_(0), walls_(nullptr), corotating_walls_(nullptr),
-      max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), max_speed_squared_window_(0), max_speed_now_(0),
-      estimate_(0), youngs_modulus_(nullptr), poisson_ratio_(nullptr), plasticity_ratio_(nullptr)
+      fast_events_named_(0), fast_event_to_name_(-1), max_pair_overlap_(0), max_wall_overlap_(0), walls_(nullptr),
+      corotating_walls_(nullptr), max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), max_speed_squared_window_(0),
+      max_speed_now_(0), estimate_(0), youngs_modulus_(nullptr), poisson_ratio_(nullptr), plasticity_ratio_(nullptr)
 {
   // every keyword is validated here, each with one message naming it, its value and what is allowed
   auto fail = [&](const std::string &message) {
@@ -125,9 +125,9 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
   size_vector = kFixedOutputs + static_cast<int>(mesh_ids_.size()) + 1;
   global_freq = 1;  // outputs hold the last check's values at any step (thermo at the end of a run)
   extvector = 0;
-  restart_global = 1;     // the event count
-  restart_peratom = 1;    // above_fast_: an excursion across a restart is one event
-  create_attribute = 1;   // set_arrays for inserted particles
+  restart_global = 1;    // the event count
+  restart_peratom = 1;   // above_fast_: an excursion across a restart is one event
+  create_attribute = 1;  // set_arrays for inserted particles
   grow_arrays(atom->nmax);
   for (int i = 0; i < atom->nmax; ++i) set_arrays(i);
   atom->add_callback(0);  // above_fast_ migrates with its particle
@@ -336,7 +336,9 @@ void FixCheckContact::check_motion()
   int mine[2] = {bad >= 0 ? (too_fast ? 2 : 3) : (name_event ? 1 : 0), comm->me}, worst[2] = {0, 0};
   MPI_Allreduce(mine, worst, 1, MPI_2INT, MPI_MAXLOC, world);
   if (worst[0] == 0) return;
-  auto speed_of = [&](int i) { return std::sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]); };
+  auto speed_of = [&](int i) {
+    return std::sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+  };
   std::string message;
   if (comm->me == worst[1]) {
     const int who_index = worst[0] == 1 ? fast_event_to_name_ : bad;
@@ -349,16 +351,16 @@ void FixCheckContact::check_motion()
       message = "check/contact: " + who + " has a non-finite position, velocity or force: x " + triple(x[bad]) +
                 " m, v " + triple(v[bad]) + " m/s, f " + triple(f[bad]) + " N; " + contacts_of(bad);
     else if (worst[0] == 2)
-      message = "check/contact: " + who + " moves at " + number(speed_of(bad)) + " m/s, above max_speed = " +
-                number(max_speed_) +
+      message = "check/contact: " + who + " moves at " + number(speed_of(bad)) +
+                " m/s, above max_speed = " + number(max_speed_) +
                 " m/s (kinetic energy blow-up: time step too large for the contact stiffness, or a particle "
                 "crushed between walls); " +
                 contacts_of(bad);
     else
       message = "check/contact: fast_speed event " + std::to_string(fast_events_named_ + 1) + " (of the first " +
                 std::to_string(kFastEventsNamed) + " named): " + who + " moves at " +
-                number(speed_of(fast_event_to_name_)) + " m/s, above fast_speed = " + number(fast_speed_) +
-                " m/s; " + contacts_of(fast_event_to_name_) +
+                number(speed_of(fast_event_to_name_)) + " m/s, above fast_speed = " + number(fast_speed_) + " m/s; " +
+                contacts_of(fast_event_to_name_) +
                 " (counted, not stopped: a release from a squeeze, docs/stability.md)";
   }
   if (worst[0] > 1) stop_at(worst[1], message);

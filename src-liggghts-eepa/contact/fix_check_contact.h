@@ -90,16 +90,16 @@ private:
   double step_fraction_;  // largest allowed dt / estimate
   bool error_on_violation_;
   bool warned_;
-  double max_speed_;         // m/s; 0: off
-  double fast_speed_;        // m/s; 0: off
-  double *above_fast_;       // per particle: 1 while it moves faster than fast_speed_ (the event is counted)
-  double fast_events_;       // all ranks, up to the last check (restart files carry it)
-  double fast_events_local_; // this rank, since the last check
-  int fast_events_named_;    // events named in the log so far (the same on every rank)
-  int fast_event_to_name_;   // a local particle whose new event could be named this step; -1: none
-  double max_pair_overlap_;  // δ/R; 0: off
-  double max_wall_overlap_;  // δ/R; 0: off
-  std::string wall_fix_id_;  // empty: no wall monitor
+  double max_speed_;          // m/s; 0: off
+  double fast_speed_;         // m/s; 0: off
+  double *above_fast_;        // per particle: 1 while it moves faster than fast_speed_ (the event is counted)
+  double fast_events_;        // all ranks, up to the last check (restart files carry it)
+  double fast_events_local_;  // this rank, since the last check
+  int fast_events_named_;     // events named in the log so far (the same on every rank)
+  int fast_event_to_name_;    // a local particle whose new event could be named this step; -1: none
+  double max_pair_overlap_;   // δ/R; 0: off
+  double max_wall_overlap_;   // δ/R; 0: off
+  std::string wall_fix_id_;   // empty: no wall monitor
   class FixWallGran *walls_;
   class FixWallGranCorotating *corotating_walls_;
   std::vector<std::string> mesh_ids_;
