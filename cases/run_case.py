@@ -8,7 +8,9 @@ the hold-up mass in the free space (cases/free_space.py). Then runs `lmp -in cas
 prints mass flow at both sensors, mean residence time per element type and the time-averaged solid
 fraction per element. Exit status 1 when lmp fails (the error is printed) or when particles escaped;
 2 for a bad option or variable (one line naming it, its value and what is allowed), checked before
-any preparation. The run directory gets params.json: every parameter of the run (docs/cases.md).
+any preparation. The run directory gets params.json: every parameter of the run (docs/cases.md),
+and lmp.vars: the variables given to lmp, one "NAME VALUE" per line. --prepare-only stops there, for
+a job script that runs lmp itself (cases/slurm/segment.sh, TSG_PREPARE).
 """
 from __future__ import annotations
 
@@ -132,6 +134,9 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--mesh-tolerance", type=float,
                         help="mesh tolerance in m instead of the scale's (1 %% of the smallest radius)")
     parser.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"))
+    parser.add_argument("--prepare-only", action="store_true",
+                        help="prepare the run directory (meshes, fill or feed regions, params.json, lmp.vars) and "
+                             "stop before lmp: for job scripts that run lmp themselves (cases/slurm/segment.sh, TSG_PREPARE)")
     parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
     return parser.parse_args(argv)
 
@@ -258,9 +263,15 @@ def run(args: argparse.Namespace) -> int:
         "machine_file": str(out / MACHINE_FILE),
         "clearances_m": {"tip_to_barrel": clearances[0], "screw_to_screw": clearances[1], "disc_spacer": clearances[2]},
         "git_commit": git_commit()}, indent=1) + "\n")
+    # the same variables as lines "NAME VALUE", for a job script that runs lmp itself (segment.sh)
+    (out / "lmp.vars").write_text("".join(f"{name} {value}\n" for name, value in variables.items()))
     command = command_prefix
     for name, value in variables.items():
         command += ["-var", name, str(value)]
+    if args.prepare_only:
+        print(f"[run] {args.case} case, {args.scale} scale, prepared: {what}, meshes {mesh_dir.name}, "
+              f"variables in {out / 'lmp.vars'}", flush=True)
+        return 0
     print(f"[run] {args.case} case, {args.scale} scale: {what}, meshes {mesh_dir.name}, output {out}", flush=True)
     start = time.perf_counter()
     # lmp's screen output goes to screen.txt, its log to log.lammps; a progress line every ~10 s

@@ -14,6 +14,10 @@
 #    The previous segment's log and element statistics are kept as log.upto-<step>.lammps and
 #    elements.upto-<step>.txt (LIGGGHTS would overwrite them); residence and mass-flow records
 #    continue in their files (the fixes append after a restart).
+#    A run with its own machine, particles or hold-up (TSG_PREPARE) is prepared once, by the first
+#    segment: tsg-run-case CASE $TSG_PREPARE --out $out --prepare-only makes its meshes and fill and
+#    writes the lmp variables to ${out}/lmp.vars. Every segment passes ${out}/lmp.vars to lmp when it
+#    exists (after its own variables and TSG_VARS: lmp keeps the first value of a variable given twice).
 # 4. After lmp: TSG-DONE in the log -> DONE, the element statistics of all segments merged into
 #    elements.txt (merge-elements.sh: where segments overlap, the later one's rows), older restart files removed; an ERROR -> FAILED (the successor exits at once);
 #    the same restart file chosen twice in a row -> FAILED (no progress within one job).
@@ -21,7 +25,8 @@
 # Environment: TSG_OUT (default runs/<case>-cluster), TSG_LMP (default build/lmp), TSG_LAUNCH (the MPI
 # launcher, default "srun"; "" runs lmp directly), TSG_RESTART_EVERY (steps, default 20000),
 # TSG_VARS (more -var NAME VALUE for lmp), TSG_WALL_OVERLAP (guard_max_wall_overlap, if set),
-# TSG_SBATCH (default sbatch).
+# TSG_PREPARE (tsg-run-case options after the case name, e.g. "--scale paper --clearances 0.0006 0.0012
+# 0.0006"; not --out), TSG_RUN_CASE (default .venv/bin/tsg-run-case), TSG_SBATCH (default sbatch).
 set -euo pipefail
 case_name="$1"
 job_script="$2"
@@ -41,6 +46,22 @@ if [ -f "$out/FAILED" ]; then say "$out failed before: $(cat "$out/FAILED"); rem
 if [ -n "${SLURM_JOB_ID:-}" ]; then
   successor=$("${TSG_SBATCH:-sbatch}" --parsable --dependency="afterany:$SLURM_JOB_ID" "$job_script")
   say "successor submitted: job ${successor%%;*}"
+fi
+
+# a run with its own machine, particles or hold-up: prepared once (a segment killed while preparing
+# leaves no lmp.vars, so the next one prepares again)
+if [ -n "${TSG_PREPARE:-}" ] && [ ! -f "$out/lmp.vars" ]; then
+  say "preparing: tsg-run-case $case_name $TSG_PREPARE --out $out --prepare-only"
+  # shellcheck disable=SC2086  # TSG_RUN_CASE and TSG_PREPARE are word lists
+  if ! ${TSG_RUN_CASE:-$repo/.venv/bin/tsg-run-case} "$case_name" $TSG_PREPARE --out "$out" --prepare-only; then
+    echo "preparation failed: tsg-run-case $case_name $TSG_PREPARE --out $out --prepare-only" > "$out/FAILED"
+    say "$(cat "$out/FAILED")"; exit 1
+  fi
+fi
+prepared=()
+if [ -f "$out/lmp.vars" ]; then
+  while read -r name value; do prepared+=(-var "$name" "$value"); done < "$out/lmp.vars"
+  say "with the $((${#prepared[@]} / 3)) variables of $out/lmp.vars"
 fi
 
 # newest complete restart file
@@ -75,7 +96,7 @@ fi
 # run in ${out}: LIGGGHTS writes its start-up log.liggghts, and on SIGTERM (SLURM's time limit) a
 # restart_forced_liggghts_<step>.data, into the working folder
 (cd "$out" && $launch "$lmp" -in "$repo/cases/in.tsg_$case_name" -echo none -var case_dir "$repo/cases" \
-  "${vars[@]}" ${TSG_VARS:-}) || true
+  "${vars[@]}" ${TSG_VARS:-} ${prepared[@]+"${prepared[@]}"}) || true
 
 if grep -q '^TSG-DONE' "$out/log.lammps" 2>/dev/null; then
   "$repo/cases/slurm/merge-elements.sh" "$out"   # one elements.txt, each sampled step once

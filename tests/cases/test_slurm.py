@@ -198,3 +198,47 @@ def test_the_job_scripts_wall_overlap_reaches_the_guard(tmp_path):
     text = proc.communicate(timeout=600)[0] + (out / "log.lammps").read_text(errors="replace")
     assert "guard_max_wall_overlap = -0.9 is not allowed" in text, text[-3000:]
     assert (out / "FAILED").is_file()
+
+
+def test_a_prepared_run_is_prepared_once_and_continued_with_its_variables(tmp_path):
+    """TSG_PREPARE (tsg-periodic-passing.slurm: the paper's particles on a machine whose gaps pass
+    them): the first segment prepares the run directory (tsg-run-case --prepare-only: the machine's
+    meshes, the fill, lmp.vars) and runs it; killed after a restart file, the next segment continues
+    with the same variables without preparing again and finishes; its element statistics merged
+    with the first segment's equal the same plan run in one piece; TSG_VARS wins over lmp.vars."""
+    assert "TSG_PREPARE" in (SEGMENT.parent / "tsg-periodic-passing.slurm").read_text()
+    t_startup = 2.5e-4      # s: about 100 steps of the 1 mm demo
+
+    def env_for(out: Path, job: int, t_sample: float) -> dict[str, str]:
+        return dict(environment(tmp_path, out, job, 0.0), TSG_PREPARE="--scale demo --holdup-g 0.05 --seed 3",
+                    TSG_VARS=f"-var t_startup {t_startup!r} -var t_sample {t_sample!r} -var thermo_every 50 -var stats_every 50")
+
+    out = tmp_path / "out"
+    reached = kill_after_restart(env_for(out, 501, 0.05), "periodic", out, 200)
+    first = (tmp_path / "screen-501.txt").read_text()
+    assert "preparing: tsg-run-case periodic --scale demo" in first and "variables of" in first, first[-3000:]
+    prepared = dict(line.split(" ", 1) for line in (out / "lmp.vars").read_text().splitlines())
+    assert prepared["mesh_dir"].endswith("consigma1-periodic-4um-c1.4-2.8mm-g1.4mm"), prepared
+    assert prepared["t_sample"] == "0.2" and prepared["fill_file"] == str(out / "fill.in")
+    count = int(re.search(r"variable fill_count equal (\d+)", (out / "fill.in").read_text()).group(1))
+    assert 50 <= count <= 100, count
+    fill_written = (out / "fill.in").stat().st_mtime_ns
+    rows = re.findall(rf"^\s+(\d+)\s+([\d.e+-]+)\s+{count}\s", (out / "log.lammps").read_text(), re.M)
+    dt = float(rows[-1][1]) / int(rows[-1][0])
+    end = 100 * ((reached + 300) // 100)
+    t_sample = (end - round(t_startup / dt)) * dt
+    second = subprocess.run([str(SEGMENT), "periodic", "JOB_SCRIPT"], env=env_for(out, 502, t_sample),
+                            capture_output=True, text=True, timeout=600)
+    assert second.returncode == 0 and (out / "DONE").is_file(), second.stdout[-3000:]
+    assert "preparing" not in second.stdout and "continuing from restart." in second.stdout, second.stdout
+    assert (out / "fill.in").stat().st_mtime_ns == fill_written
+    steps = [int(m) for m in re.findall(rf"^\s+(\d+)\s+[\d.e+-]+\s+{count}\s", (out / "log.lammps").read_text(), re.M)]
+    assert steps[-1] == end, steps     # TSG_VARS' t_sample, not lmp.vars' 0.2 s
+    whole = tmp_path / "whole"
+    reference = subprocess.run([str(SEGMENT), "periodic", "JOB_SCRIPT"], env=env_for(whole, 601, t_sample),
+                               capture_output=True, text=True, timeout=600)
+    assert reference.returncode == 0 and (whole / "DONE").is_file(), reference.stdout[-3000:]
+    merged, single = elements(out / "elements.txt"), elements(whole / "elements.txt")
+    assert sorted(merged) == sorted(single) and len(single) >= 5, (sorted(merged), sorted(single))
+    for step in single:
+        np.testing.assert_allclose(merged[step], single[step], rtol=1e-9, atol=1e-15, err_msg=f"step {step}")
