@@ -57,6 +57,11 @@ if [ -n "${TSG_PREPARE:-}" ] && [ ! -f "$out/lmp.vars" ]; then
     echo "preparation failed: tsg-run-case $case_name $TSG_PREPARE --out $out --prepare-only" > "$out/FAILED"
     say "$(cat "$out/FAILED")"; exit 1
   fi
+  printf '%s\n' "$TSG_PREPARE" > "$out/prepared-with"
+elif [ -n "${TSG_PREPARE:-}" ] && [ -f "$out/prepared-with" ] && [ "$(cat "$out/prepared-with")" != "$TSG_PREPARE" ]; then
+  # a chain continues the run it prepared: other options would silently not apply
+  echo "TSG_PREPARE = \"$TSG_PREPARE\" is not allowed here: $out was prepared with \"$(cat "$out/prepared-with")\" (use another TSG_OUT for other options)" > "$out/FAILED"
+  say "$(cat "$out/FAILED")"; exit 1
 fi
 prepared=()
 if [ -f "$out/lmp.vars" ]; then

@@ -10,6 +10,8 @@ MESH_DIR = str(Path(os.environ.get("TSG_BUILD_DIR", ROOT / "build")) / "meshes" 
 SWEEP = ["{python}", "-m", "tsg_cases.sweep"]
 FREE = ["{python}", "-m", "tsg_cases.free_space"]
 PSD = ["{python}", "-m", "tsg_cases.psd"]
+# one job segment of cases/slurm/ outside SLURM (no successor is submitted), with the run directory in {tmp}/run
+SEGMENT = ["env", "TSG_OUT={tmp}/run", "TSG_LAUNCH=", "TSG_LMP={lmp}", "TSG_RUN_CASE={python} -m tsg_cases.run_case"]
 
 
 def fill(*options: str) -> list[str]:
@@ -72,4 +74,13 @@ CASES: list[BadInput] = [
              command=[*PSD, "write", "{tmp}/psd.in", "0.05", "--classes", "0"]),
     BadInput("tools.psd.out-is-a-directory", ("tsg-psd: error", "Is a directory"),
              why="the include file is a directory", command=[*PSD, "write", "{tmp}", "0.05"]),
+    BadInput("tools.segment.prepare-option", ("preparation failed: tsg-run-case periodic --scale nope", "invalid choice: 'nope'"),
+             why="a job chain whose run cannot be prepared stops at once (FAILED), before any lmp",
+             command=[*SEGMENT, "TSG_PREPARE=--scale nope", "{root}/cases/slurm/segment.sh", "periodic", "JOB"]),
+    BadInput("tools.segment.prepare-changed",
+             ('TSG_PREPARE = "--scale demo --seed 2" is not allowed', 'was prepared with "--scale demo --seed 1"', "another TSG_OUT"),
+             why="a chain continues the run it prepared: other preparation options would silently not apply",
+             files={"run/lmp.vars": "t_sample 0.2\n", "run/prepared-with": "--scale demo --seed 1\n"},
+             command=[*SEGMENT, "TSG_PREPARE=--scale demo --seed 2", "{root}/cases/slurm/segment.sh", "periodic", "JOB"],
+             intact=("run/lmp.vars", "run/prepared-with")),
 ]
