@@ -69,15 +69,11 @@ if [ -f "$out/lmp.vars" ]; then
   say "with the $((${#prepared[@]} / 3)) variables of $out/lmp.vars"
 fi
 
-# newest complete restart file
 last_step=0
 if [ -f "$out/log.lammps" ]; then
   last_step=$(awk 'NF >= 10 && $1 ~ /^[0-9]+$/ && $2 ~ /^[0-9.eE+-]+$/ { s = $1 } END { print s + 0 }' "$out/log.lammps")
 fi
-restart=""
-for step in $(find "$out" -maxdepth 1 -name 'restart.*' -printf '%f\n' | sed 's/^restart\.//' | grep -E '^[0-9]+$' | sort -n -r); do
-  if [ "$step" -lt "$last_step" ]; then restart="$out/restart.$step"; break; fi
-done
+restart=$("$repo/cases/slurm/newest-restart.sh" "$out")
 
 vars=(-var out_dir "$out" -var procs_x "$ranks" -var restart_every "$restart_every")
 # the wall-overlap guard for a machine that squeezes its particles (the job scripts set it; docs/cluster.md)
