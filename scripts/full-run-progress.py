@@ -17,7 +17,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
 from tsg_analysis.liggghts_log import parse_thermo  # noqa: E402
 from tsg_analysis.massflow import step_clock  # noqa: E402
-from tsg_analysis.run_files import read_massflow  # noqa: E402
+from tsg_analysis.run_files import AnalysisInputError, read_massflow  # noqa: E402
 
 
 def particles_over_steps(run: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -41,7 +41,11 @@ def main(argv: list[str]) -> int:
     if not window > 0:
         print(f"WINDOW_S = {window} is not allowed: a window in s, > 0", file=sys.stderr)
         return 2
-    record = read_massflow(run / "massflow.txt")
+    try:
+        record = read_massflow(run / "massflow.txt")
+    except AnalysisInputError as problem:
+        print(f"full-run-progress: {problem}", file=sys.stderr)
+        return 2
     clock = step_clock(record)
     if clock is None:
         print(f"{run / 'massflow.txt'}: fewer than two rows", file=sys.stderr)
