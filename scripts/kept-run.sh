@@ -5,14 +5,16 @@
 #
 #   scripts/kept-run.sh run KEPT [RANKS] [--until T]   # start, or continue, the run KEPT/run.conf names
 #   scripts/kept-run.sh keep KEPT                      # after stopping it: its newest restart file and
-#                                                      # outputs, compressed into KEPT
+#                                                      # outputs, compressed into KEPT; once it is finished
+#                                                      # (DONE), its outputs only
 #
 # KEPT/run.conf (shell variables): CASE (periodic | full | nonperiodic), OUT (the run folder; relative
 # to the repository unless absolute), PREPARE (tsg-run-case options after the case name, not --out), RESTART_EVERY
 # (steps between restart files).
 # On a fresh checkout `run` unpacks KEPT into OUT; the first segment prepares the run again (meshes,
 # feed regions: the same for the same options) and continues from the kept restart file. The records
-# written after that restart file by the stopped segment are dropped by the measurement fixes.
+# written after that restart file by the stopped segment are dropped by the measurement fixes. A kept
+# finished run (KEPT/DONE) is only unpacked: its outputs are what the analysis reads.
 # --until T: the sampling ends at t = T s (full case), with a residence record "inside" for every
 # particle still in the granulator (the RTDs need them).
 # Stop a running segment with kill (its PID, or pkill -f "in.tsg_$CASE") before `keep`.
@@ -31,17 +33,25 @@ if [ "$action" = keep ]; then
   if pgrep -f "in.tsg_${CASE} .*$out" > /dev/null; then
     echo "kept-run.sh: a segment of $out is still running: stop it first" >&2; exit 2
   fi
-  # the one a continuation starts from
-  restart=$("$repo/cases/slurm/newest-restart.sh" "$out")
-  [ -n "$restart" ] || { echo "kept-run.sh: no complete restart file in $out" >&2; exit 2; }
-  latest=$(basename "$restart")
+  if [ -f "$out/DONE" ]; then   # finished: its outputs are the study's results, no restart file is kept
+    latest=""
+  else                          # the restart file a continuation starts from
+    restart=$("$repo/cases/slurm/newest-restart.sh" "$out")
+    [ -n "$restart" ] || { echo "kept-run.sh: no complete restart file in $out (and no DONE: not finished)" >&2; exit 2; }
+    latest=$(basename "$restart")
+  fi
   "$repo/cases/slurm/merge-elements.sh" "$out"      # one elements.txt: what the analysis reads
-  find "$kept" -maxdepth 1 -name '*.xz' -delete
-  xz -T2 -6 -c "$restart" > "$kept/$latest.xz"
+  find "$kept" -maxdepth 1 \( -name '*.xz' -o -name DONE \) -delete
   for f in "${outputs[@]}" $(cd "$out" && ls log.upto-*.lammps 2>/dev/null); do
     [ -f "$out/$f" ] && xz -T2 -c "$out/$f" > "$kept/$f.xz"
   done
-  echo "kept $latest and the outputs of $out in $kept ($(du -sh "$kept" | cut -f1))"
+  if [ -n "$latest" ]; then
+    xz -T2 -6 -c "$restart" > "$kept/$latest.xz"
+    echo "kept $latest and the outputs of $out in $kept ($(du -sh "$kept" | cut -f1))"
+  else
+    touch "$kept/DONE"
+    echo "kept the outputs of the finished run $out in $kept ($(du -sh "$kept" | cut -f1)); \`run' unpacks them"
+  fi
   exit 0
 fi
 [ "$action" = run ] || { echo "$usage" >&2; exit 2; }
@@ -59,6 +69,10 @@ fi
 if [ ! -d "$out" ]; then   # a fresh checkout: the kept state
   mkdir -p "$out"
   for f in "$kept"/*.xz; do [ -f "$f" ] && xz -dc "$f" > "$out/$(basename "$f" .xz)"; done
+  if [ -f "$kept/DONE" ]; then
+    touch "$out/DONE"
+    echo "kept-run.sh: $OUT is a finished run: its outputs are unpacked into $out, nothing to run"; exit 0
+  fi
 fi
 # run by hand, a segment stopped before its next restart file is simply started again
 rm -f "$out/last-restart"

@@ -1,6 +1,7 @@
 """A study run longer than a session (scripts/kept-run.sh; docs/validation.md, "Periodic against full
 at 1 mm") is kept in the repository as its newest complete restart file and its outputs, and
-continued from them on a fresh checkout: the continued run equals the same run done in one piece."""
+continued from them on a fresh checkout: the continued run equals the same run done in one piece. A
+finished run is kept as its outputs only."""
 import re
 import subprocess
 from pathlib import Path
@@ -42,6 +43,15 @@ def test_a_kept_run_continues_on_a_fresh_checkout_from_its_kept_restart_file(tmp
     again = subprocess.run([str(kept_run), "run", str(kept), "1"], env=env, capture_output=True, text=True, timeout=600)
     assert again.returncode == 0 and (out / "DONE").is_file(), again.stdout[-3000:] + again.stderr
     assert "preparing" in again.stdout and f"continuing from restart.{newest}" in again.stdout, again.stdout[-3000:]
+    # finished, it is kept as its outputs only; on a fresh checkout `run` unpacks them and runs nothing
+    done_keep = subprocess.run([str(kept_run), "keep", str(kept)], env=env, capture_output=True, text=True, timeout=120)
+    assert done_keep.returncode == 0 and (kept / "DONE").is_file(), done_keep.stdout + done_keep.stderr
+    assert not list(kept.glob("restart.*")) and (kept / "elements.txt.xz").is_file(), sorted(kept.iterdir())
+    finished = (out / "elements.txt").read_text()
+    subprocess.run(["rm", "-rf", str(out)], check=True)
+    unpack = subprocess.run([str(kept_run), "run", str(kept), "1"], env=env, capture_output=True, text=True, timeout=120)
+    assert unpack.returncode == 0 and "finished run" in unpack.stdout, unpack.stdout + unpack.stderr
+    assert (out / "elements.txt").read_text() == finished and not (out / "log.liggghts").exists()
     whole_out = tmp_path / "whole"
     whole = subprocess.run([str(kept_run), "run", str(conf(tmp_path / "kept-whole", whole_out)), "1"], env=env,
                            capture_output=True, text=True, timeout=600)
