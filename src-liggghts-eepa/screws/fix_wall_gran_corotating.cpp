@@ -62,6 +62,8 @@ FixWallGranCorotating::FixWallGranCorotating(LAMMPS *lmp, int narg, char **arg)
     : FixWallGran(lmp, wall_gran_arguments(narg, arg), arg)
 {
   if (!is_mesh_wall()) fail("needs mesh walls ('mesh n_meshes N meshes ...')");
+  if (n_FixMesh_ > 32)
+    fail("n_meshes = " + std::to_string(n_FixMesh_) + " is not allowed: at most 32 meshes (one bit each per particle)");
   parse_corotate(narg, arg, wall_gran_arguments(narg, arg));
   for (int i = 0; i < n_FixMesh_; ++i) all_meshes_.push_back(FixMesh_list_[i]);
   for (int i = 0; i < n_FixMesh_; ++i) {
@@ -583,6 +585,14 @@ void FixWallGranCorotating::corotating_contacts()
   }
 
   mark_all_contacts();
+  if (step_overlap_.size() < static_cast<size_t>(atom->nmax)) {
+    step_overlap_.resize(atom->nmax);
+    step_touched_.resize(atom->nmax);
+    step_crossed_.resize(atom->nmax);
+  }
+  std::fill(step_overlap_.begin(), step_overlap_.begin() + nlocal, 0.0);
+  std::fill(step_touched_.begin(), step_touched_.begin() + nlocal, 0u);
+  std::fill(step_crossed_.begin(), step_crossed_.begin() + nlocal, 0u);
   LIGGGHTS::ContactModels::SurfacesIntersectData sidata;
   sidata.is_wall = true;
   for (int i = 0; i < nlocal; ++i) {
@@ -626,6 +636,16 @@ void FixWallGranCorotating::corotating_contacts()
       if (!(deltan <= 0.0 || deltan < touch_factor * radius[i])) continue;
       const bool intersect = deltan <= 0.0;
       if (-deltan > s.deepest.overlap_ratio * radius[i]) s.deepest = {-deltan / radius[i], atom->tag[i]};
+      if (intersect) {
+        const unsigned bit = 1u << s.list_index;
+        step_overlap_[i] = std::max(step_overlap_[i], -deltan / radius[i]);
+        step_touched_[i] |= bit;
+        // the centre behind a face (the normals face the particles): pushed on, it goes through
+        const double *normal = s.triangles[cand.triangle].normal;
+        if (c.feature == tmesh::Feature::face &&
+            c.delta[0] * normal[0] + c.delta[1] * normal[1] + c.delta[2] * normal[2] > 0.0)
+          step_crossed_[i] |= bit;
+      }
       bool accepted = false;
       double *history = handle_contact(i, s, cand.triangle, c.feature == tmesh::Feature::face, accepted);
       if (!accepted) continue;
@@ -654,6 +674,12 @@ void FixWallGranCorotating::corotating_contacts()
       s.load[3] -= moment.x, s.load[4] -= moment.y, s.load[5] -= moment.z;
     }
   }
+  // the power of the screws on the particles: ω · (torque of the contact forces on the particles)
+  step_power_ = 0.0;
+  for (const Screw &screw : screws_)
+    if (screw.turning)
+      step_power_ -= screw.motion.omega * (screw.motion.axis.x * screw.load[3] + screw.motion.axis.y * screw.load[4] +
+                                           screw.motion.axis.z * screw.load[5]);
   clean_up_contacts();
 }
 
@@ -741,6 +767,8 @@ void FixWallGranCorotating::clean_up_contacts()
     }
   }
 }
+
+std::string FixWallGranCorotating::wall_name(int wall) const { return mesh_list()[wall]->id; }
 
 bool FixWallGranCorotating::handles_mesh(const std::string &mesh_id) const
 {

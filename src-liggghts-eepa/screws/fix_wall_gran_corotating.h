@@ -16,6 +16,9 @@
 // <prefix>_<mesh ID>_<step>.vtk (rank 0); N = 0 writes none.
 // Deepest contact per mesh: the largest overlap δ/R of any particle with each of its meshes since
 // the last take_deepest() (every step counted), read by fix check/contact's wall-overlap monitor.
+// This step's contacts per particle (deepest δ/R, meshes touched, meshes whose surface its centre
+// has crossed) and the screws' power on the particles: tsg::WallContactSource, read by fix
+// squeeze/ledger (corotating and fixed meshes; meshes left to fix wall/gran are not reported).
 // When deleted (end of input or unfix) the fix reports the time spent in its own contact handling
 // per step (slowest rank) and how many candidate lists were built.
 //
@@ -41,10 +44,11 @@ FixStyle(wall/gran/corotating,FixWallGranCorotating)
 #include "rigid_rotation.h"
 #include "triangle_contact.h"
 #include "triangle_lookup.h"
+#include "wall_contact_source.h"
 
 namespace LAMMPS_NS {
 
-class FixWallGranCorotating : public FixWallGran {
+class FixWallGranCorotating : public FixWallGran, public tsg::WallContactSource {
 public:
   FixWallGranCorotating(class LAMMPS *, int, char **);
   ~FixWallGranCorotating() override;
@@ -69,6 +73,13 @@ public:
   DeepestContact take_deepest(const std::string &mesh_id);
   // IDs of the corotate/fixed meshes local particle i has a contact with at present
   std::vector<std::string> meshes_touched(int i) const;
+
+  int wall_count() const override { return n_meshes(); }
+  std::string wall_name(int wall) const override;
+  const double *step_overlap_ratio() const override { return step_overlap_.data(); }
+  const unsigned *step_walls_touched() const override { return step_touched_.data(); }
+  const unsigned *step_walls_crossed() const override { return step_crossed_.data(); }
+  double step_power() const override { return step_power_; }
 
   void grow_arrays(int nmax) override;
   void copy_arrays(int i, int j, int delflag) override;
@@ -164,6 +175,11 @@ private:
 
   std::vector<double> load_all_;
   bigint load_step_ = -1;
+
+  // this step's contacts per local particle and the screws' power (WallContactSource)
+  std::vector<double> step_overlap_;
+  std::vector<unsigned> step_touched_, step_crossed_;
+  double step_power_ = 0.0;
 };
 
 }  // namespace LAMMPS_NS
