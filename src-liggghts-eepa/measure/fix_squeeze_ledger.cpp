@@ -82,7 +82,7 @@ FixSqueezeLedger::FixSqueezeLedger(LAMMPS *lmp, int narg, char **arg) : FixMeasu
     } else if (key == "release_steps") {
       thresholds_.release_steps = static_cast<int>(integer(0, "an integer >= 0 (steps)"));
     } else if (key == "max_energy_excess") {
-      max_energy_excess_ = real("a number > 0 (fraction of the energy turnover), or 'off'",
+      max_energy_excess_ = real("a number > 0 (a fraction of the energy turnover; leave the keyword out for no limit)",
                                 [](double v) { return v > 0; });
     } else if (key == "max_crossed") {
       max_crossed_ = integer(0, "an integer >= 0 (particle centres behind a wall)");
@@ -186,6 +186,10 @@ void FixSqueezeLedger::pair_depths(std::vector<double> &ratio, std::vector<char>
 // changed); every particle present is seen.
 void FixSqueezeLedger::setup(int)
 {
+  // a ledger that starts on a restart file written without it: LIGGGHTS restarts its time at 0, so
+  // the clock starts at step x dt (the cases' time step is constant)
+  if (!first_setup_done_ && !continuing_) clock_.load(static_cast<double>(update->ntimestep) * update->dt,
+                                                      static_cast<double>(update->ntimestep));
   clock_.resume(update);
   double kinetic = 0, lift = 0;
   const double g = std::sqrt(gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2]);
@@ -317,7 +321,7 @@ void FixSqueezeLedger::end_of_step()
 
 double FixSqueezeLedger::excess() const
 {
-  const double scale = scale_ + lift_;
+  const double scale = scale_ + lift_ + kinetic_;
   return scale > 0 ? (kinetic_ - budget_) / scale : 0.0;
 }
 
@@ -414,7 +418,7 @@ void FixSqueezeLedger::flush()
   std::string text;
   char line[512];
   for (const double *r : rows) {
-    std::snprintf(line, sizeof line, "%.10g %.10g %.0f %.8g %.8g %.8g %.6g %.6g %.6g %.0f %.0f %.0f %.6g %.6g %.0f\n",
+    std::snprintf(line, sizeof line, "%.10g %.10g %.0f %.10g %.10g %.10g %.10g %.10g %.10g %.0f %.0f %.0f %.10g %.10g %.0f\n",
                   r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14]);
     text += line;
   }

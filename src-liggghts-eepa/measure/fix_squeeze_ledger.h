@@ -13,16 +13,16 @@
 // its kind, the speeds before and after, and the particle's event number.
 // Energy (J): W_walls = ∫ Σ (power of the moving walls on the particles) dt, W_gravity = ∫ Σ m g·v
 // dt, and the budget B = KE(0) + W_walls + W_gravity + KE brought by particles created − KE taken by
-// particles deleted. Contacts only dissipate or store: KE <= B. The excess (KE − B) / S, with S the
-// sum of every energy that entered the budget in absolute value plus Σ m |g| R (the elastic energy
-// a resting fill can hold is far below it), measures energy created by the integration; above
-// max_energy_excess the run stops, naming the fastest particle.
+// particles deleted. Contacts only dissipate or store: KE <= B. The excess (KE − B) / (S + KE), with
+// S the sum of every energy that entered the budget in absolute value plus Σ m |g| R (the elastic
+// energy a resting fill can hold is far below it), measures energy created by the integration (at
+// most 1: a runaway from nothing); above max_energy_excess the run stops, naming the fastest particle.
 // A crossing: a particle whose centre lies behind a face of a wall (counted once until it is in
 // front again); the first 10 are named in the log; above max_crossed crossings the run stops.
 // Global vector (thermo): [1] events closed  [2] squeezes in progress  [3] distinct particles
 // squeezed  [4] largest peak wall δ/R  [5] largest peak pair δ/R  [6] largest release speed (m/s)
 // [7] crossings  [8] W_walls  [9] W_gravity  [10] KE  [11] B − KE (dissipated, or stored elastically)
-// [12] (KE − B) / S  [13] Σ ½ m v² at release over the events (J).
+// [12] (KE − B) / (S + KE)  [13] Σ ½ m v² at release over the events (J).
 // Restart files keep every counter, the energy budget and each particle's state.
 #ifdef FIX_CLASS
 // clang-format off

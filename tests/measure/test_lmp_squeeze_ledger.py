@@ -1,0 +1,216 @@
+"""fix squeeze/ledger on crafted scenes (docs/stability.md, "Squeezes on the paper machine"): a
+sphere driven into a wedge of two fixed walls and out again is one squeeze event whose peak overlap
+is the wedge's closed form, also when it changes rank mid-event; a centre pushed through a wall is
+counted, named, and stops the run above max_crossed; gravity's work equals m g Δz; an elastic
+collision at a safe step creates no energy, one at ten times the critical step stops the run."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from tsg_harness import run_lmp
+
+RADIUS = 0.001      # m
+DENSITY = 2500.0    # kg/m^3
+YOUNGS, POISSON = 5.0e7, 0.25
+SHEAR = YOUNGS / (2 * (1 + POISSON))
+RAYLEIGH = math.pi * RADIUS * math.sqrt(DENSITY / SHEAR) / (0.1631 * POISSON + 0.8766)
+MASS = DENSITY * 4 / 3 * math.pi * RADIUS**3
+TIMESTEP = 1e-6
+
+HEADER = """atom_style    granular
+atom_modify   map array
+boundary      f f f
+newton        off
+communicate   single vel yes
+processors    * 1 1
+units         si
+region        box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box
+create_box    1 box
+neighbor      0.0005 bin
+neigh_modify  delay 0
+fix m1 all property/global youngsModulus peratomtype 5.0e7
+fix m2 all property/global poissonsRatio peratomtype 0.25
+fix m3 all property/global coefficientRestitution peratomtypepair 1 1.0
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+pair_style gran model hertz tangential history
+pair_coeff * *
+"""
+# the ledger's vector as thermo columns q1 .. q13 (LIGGGHTS cuts column names to 8 characters)
+THERMO = "".join(f"variable q{k} equal f_squeeze[{k}]\n" for k in range(1, 14)) + \
+    "thermo_style custom step atoms " + " ".join(f"v_q{k}" for k in range(1, 14)) + \
+    "\nthermo_modify format float %.15g norm no\n"
+
+
+def stl(name: str, triangles: list[tuple[tuple[float, float, float], ...]]) -> str:
+    facets = "".join("facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {x!r} {y!r} {z!r}\n" for x, y, z in t)
+                     + "endloop\nendfacet\n" for t in triangles)
+    return f"solid {name}\n{facets}endsolid {name}\n"
+
+
+# a small disc far away that turns about x (a wall/gran/corotating fix needs one turning mesh)
+DISC = stl("disc", [((-0.008, -0.001, -0.009), (-0.008, 0.001, -0.009), (-0.008, 0.001, -0.007)),
+                    ((-0.008, -0.001, -0.009), (-0.008, 0.001, -0.007), (-0.008, -0.001, -0.007))])
+# The wedge: two planes through the x axis, each at ALPHA from the vertical, their normals (vertex
+# order) facing the particle above the apex. A centre at height z is z sin(ALPHA) from each.
+ALPHA = math.radians(30.0)
+S, C, L = math.sin(ALPHA), math.cos(ALPHA), 0.006
+WEDGE_A = stl("wall_a", [((-L, 0.0, 0.0), (L, 0.0, 0.0), (L, L * S, L * C)),
+                         ((-L, 0.0, 0.0), (L, L * S, L * C), (-L, L * S, L * C))])
+WEDGE_B = stl("wall_b", [((-L, 0.0, 0.0), (L, -L * S, L * C), (L, 0.0, 0.0)),
+                         ((-L, 0.0, 0.0), (-L, -L * S, L * C), (L, -L * S, L * C))])
+PLANE = stl("plane", [((-0.005, -0.005, 0.0), (0.005, -0.005, 0.0), (0.005, 0.005, 0.0)),
+                      ((-0.005, -0.005, 0.0), (0.005, 0.005, 0.0), (-0.005, 0.005, 0.0))])
+
+
+def walls(fixed: list[str]) -> str:
+    meshes = "".join(f"fix {name} all mesh/surface file {name}.stl type 1\n" for name in fixed + ["disc"])
+    return meshes + (f"fix walls all wall/gran/corotating model hertz tangential history mesh n_meshes {len(fixed) + 1} "
+                     f"meshes {' '.join(fixed)} disc " + " ".join(f"fixed {name}" for name in fixed) +
+                     " corotate disc origin 0 0 -0.008 axis 1 0 0 period 1\n")
+
+
+def ledger(keys: str = "") -> str:
+    return f"fix squeeze all squeeze/ledger walls walls records squeezes.txt {keys}\n"
+
+
+def read_records(path) -> np.ndarray:
+    return np.atleast_2d(np.loadtxt(path, comments="#", ndmin=2))
+
+
+# the wedge squeeze: pushed down at PUSH for N_IN steps, then back up for N_OUT, drifting along x
+# across the middle of the box (the boundary between 2 ranks) while squeezed
+Z0 = 1.01 * RADIUS / S      # m, 1 % above first touch
+PUSH, DRIFT = 0.1, 0.05     # m/s
+N_IN, N_OUT = 5000, 5000
+X0 = -0.0003                # m: at x = 0 after 6000 steps
+
+
+def wedge_heights(steps: np.ndarray) -> np.ndarray:
+    up = np.clip(steps - N_IN, 0, None)
+    return Z0 - PUSH * TIMESTEP * (np.minimum(steps, N_IN) - up)
+
+
+def wedge_scene() -> str:
+    return HEADER + walls(["wall_a", "wall_b"]) + f"""create_atoms 1 single {X0!r} 0 {Z0!r} units box
+set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
+timestep {TIMESTEP!r}
+{ledger()}{THERMO}thermo 1000
+fix push all move linear {DRIFT!r} 0 -{PUSH!r}
+run {N_IN}
+unfix push
+fix pull all move linear {DRIFT!r} 0 {PUSH!r}
+run {N_OUT}
+"""
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_a_sphere_driven_into_a_wedge_is_one_squeeze_with_the_closed_form_peak(tmp_path, nprocs):
+    run = run_lmp(wedge_scene(), tmp_path, nprocs=nprocs, files={"wall_a.stl": WEDGE_A, "wall_b.stl": WEDGE_B,
+                                                                   "disc.stl": DISC})
+    thermo = run.thermo[-1]
+    records = read_records(tmp_path / "squeezes.txt")
+    assert records.shape == (1, 15), records
+    assert thermo["q1"][-1] == 1 and thermo["q3"][-1] == 1    # one event, one particle
+    (t_start, t_end, ident, x, _, z, radius, peak_wall, peak_pair, wall_bits, kind, with_particles, start_speed,
+     release_speed, number) = records[0]
+    steps = np.arange(N_IN + N_OUT + 1)
+    depth = 1 - wedge_heights(steps) * S / RADIUS         # δ/R against each wall, closed form
+    # the deepest step is the last push step; positions are x0 + v t to rounding (1e-12 m here), so δ/R
+    # is exact to 1e-9
+    assert peak_wall == pytest.approx(depth.max(), abs=1e-9)
+    assert peak_wall == pytest.approx(1 - (Z0 - PUSH * TIMESTEP * N_IN) * S / RADIUS, abs=1e-9)
+    first = int(steps[depth > 0.1][0])
+    assert t_start == pytest.approx(first * TIMESTEP, rel=1e-9)
+    closed = int(steps[(steps > N_IN) & (depth < 0.05)][0])
+    assert t_end == pytest.approx((closed + 50) * TIMESTEP, rel=1e-9)  # 50 release steps after the end
+    assert z == pytest.approx(Z0 - PUSH * TIMESTEP * N_IN, abs=1e-12)
+    assert x == pytest.approx(X0 + DRIFT * TIMESTEP * N_IN, abs=1e-12)
+    assert x < 0 < X0 + DRIFT * TIMESTEP * closed          # the event crossed the rank boundary x = 0
+    assert ident == 1 and radius == pytest.approx(RADIUS) and number == 1
+    assert peak_pair == 0 and with_particles == 0
+    assert wall_bits == 3 and kind == 0                     # both walls: two_walls
+    speed = math.hypot(PUSH, DRIFT)                          # prescribed
+    assert start_speed == pytest.approx(speed, rel=1e-9) and release_speed == pytest.approx(speed, rel=1e-9)
+    assert thermo["q7"][-1] == 0                  # no centre behind a wall
+    assert thermo["q8"][-1] == 0                  # fixed walls do no work
+
+
+def pushed_through_plane(keys: str) -> str:
+    return HEADER + walls(["plane"]) + f"""create_atoms 1 single 0.0003 0.0002 {1.01 * RADIUS!r} units box
+set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
+timestep {TIMESTEP!r}
+{ledger(keys)}{THERMO}thermo 1000
+fix push all move linear 0 0 -0.1
+run 12000
+"""
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_a_centre_pushed_through_a_wall_is_counted_and_named(tmp_path, nprocs):
+    run = run_lmp(pushed_through_plane(""), tmp_path, nprocs=nprocs, files={"plane.stl": PLANE, "disc.stl": DISC})
+    assert run.last("q7") == 1, run.log[-2000:]
+    first = int(np.ceil(1.01 * RADIUS / (0.1 * TIMESTEP) + 1e-9))     # the first step with the centre below z = 0
+    assert "fix squeeze squeeze/ledger: crossing 1: particle 1 has its centre behind the surface of wall plane" in run.log
+    assert f"t = {first * TIMESTEP:.10g} s" in run.log or f"t = {(first + 1) * TIMESTEP:.10g} s" in run.log, run.log[-2000:]
+
+
+def test_a_crossing_above_max_crossed_stops_the_run(tmp_path):
+    run = run_lmp(pushed_through_plane("max_crossed 0"), tmp_path, files={"plane.stl": PLANE, "disc.stl": DISC},
+                  expect_error=True)
+    assert "particle 1 has its centre behind the surface of wall plane" in run.log
+    assert "1 crossings exceed max_crossed = 0" in run.log, run.log[-2000:]
+
+
+def test_gravity_work_is_m_g_dz_and_creates_no_excess(tmp_path):
+    text = HEADER + walls(["plane"]) + f"""create_atoms 1 single 0.0003 0.0002 0.008 units box
+set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
+velocity all set 0.01 0 0.2 units box
+fix integrate all nve/sphere
+fix gravity all gravity 9.81 vector 0 0 -1
+timestep {TIMESTEP!r}
+{ledger()}variable z equal z[1]
+{THERMO}thermo_style custom step v_z v_q9 v_q10 v_q12
+thermo_modify format float %.15g norm no
+thermo 500
+run 20000
+"""
+    run = run_lmp(text, tmp_path, files={"plane.stl": PLANE, "disc.stl": DISC})
+    thermo = run.thermo[-1]
+    np.testing.assert_allclose(thermo["q9"], MASS * 9.81 * (0.008 - thermo["z"]), rtol=1e-9, atol=1e-18)
+    kinetic = 0.5 * MASS * (0.01**2 + 0.2**2) + MASS * 9.81 * (0.008 - thermo["z"])
+    np.testing.assert_allclose(thermo["q10"], kinetic, rtol=1e-9)
+    assert np.all(np.abs(thermo["q12"]) < 1e-9)
+
+
+def head_on(dt: float, keys: str) -> str:
+    return HEADER + walls(["plane"]) + f"""create_atoms 1 single -0.0011 0 0.005 units box
+create_atoms 1 single  0.0011 0 0.005 units box
+set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
+velocity all set NULL 0 0 units box
+set atom 1 vx 0.5
+set atom 2 vx -0.5
+fix integrate all nve/sphere
+timestep {dt!r}
+{ledger(keys)}{THERMO}thermo 10
+run {int(round(4e-3 / dt))}
+"""
+
+
+def test_an_elastic_collision_at_a_safe_step_conserves_the_budget(tmp_path):
+    run = run_lmp(head_on(0.1 * RAYLEIGH, "max_energy_excess 0.05"), tmp_path, files={"plane.stl": PLANE, "disc.stl": DISC})
+    thermo = run.thermo[-1]
+    assert thermo["q10"][-1] == pytest.approx(2 * 0.5 * MASS * 0.25, rel=1e-3)   # e = 1: all back
+    assert np.all(thermo["q12"] < 1e-3)
+    assert thermo["q12"].min() < -0.01             # while in contact the energy is stored
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_energy_created_by_a_far_too_long_step_stops_the_run(tmp_path, nprocs):
+    run = run_lmp(head_on(10 * RAYLEIGH, "max_energy_excess 0.05"), tmp_path, nprocs=nprocs,
+                  files={"plane.stl": PLANE, "disc.stl": DISC}, expect_error=True)
+    assert "fix squeeze squeeze/ledger: kinetic energy runaway" in run.log, run.log[-2000:]
+    assert "above max_energy_excess = 0.05; fastest particle" in run.log
+    assert "reduce the time step" in run.log
