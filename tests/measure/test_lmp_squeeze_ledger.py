@@ -214,3 +214,53 @@ def test_energy_created_by_a_far_too_long_step_stops_the_run(tmp_path, nprocs):
     assert "fix squeeze squeeze/ledger: kinetic energy runaway" in run.log, run.log[-2000:]
     assert "above max_energy_excess = 0.05; fastest particle" in run.log
     assert "reduce the time step" in run.log
+
+
+def yield_rebound_speed(modulus: float, radius: float, pressure: float, mass: float, speed: float) -> float:
+    """Closed form of the yield-limited wall contact (Thornton & Ning 1998, physics/yield_law.h),
+    written out again here: a head-on impact at `speed` loads to δ_max, the Hertzian unloading about
+    the enlarged radius gives back (2/5) F_max (δ_max − δ_p)."""
+    dy = radius * (math.pi * pressure / (2 * modulus)) ** 2
+    fy = 4 / 3 * modulus * math.sqrt(radius) * dy**1.5
+    energy = 0.5 * mass * speed**2
+    k = math.pi * pressure * radius   # 0.4 fy dy + fy x + k x^2 / 2 = energy
+    dmax = dy + (-fy + math.sqrt(fy**2 + 2 * k * (energy - 0.4 * fy * dy))) / k
+    fmax = fy + k * (dmax - dy)
+    a = math.sqrt((2 * fmax + fy) / (2 * math.pi * pressure))
+    plastic = dmax - 3 * fmax / (4 * modulus * a)
+    return math.sqrt(2 * 0.4 * fmax * (dmax - plastic) / mass)
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_with_the_yield_treatment_a_crushed_sphere_leaves_at_the_closed_form_speed(tmp_path, nprocs):
+    pressure, impact = 1.0e6, 5.0      # Pa, m/s: yields at 0.35 % of R, peaks near 0.29 R
+    text = HEADER.replace("pair_style gran model hertz", "fix m5 all property/global yieldPressure peratomtypepair 1 "
+                          f"{pressure!r}\npair_style gran model hertz") \
+        + walls(["plane"]).replace("model hertz", "model yield") + f"""create_atoms 1 single 0.0003 0.0002 {1.001 * RADIUS!r} units box
+set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
+velocity all set 0 0 -{impact!r} units box
+fix integrate all nve/sphere
+timestep {TIMESTEP!r}
+{ledger()}{THERMO}thermo 100
+run 3000
+"""
+    run = run_lmp(text, tmp_path, nprocs=nprocs, files={"plane.stl": PLANE, "disc.stl": DISC})
+    records = read_records(tmp_path / "squeezes.txt")
+    assert records.shape == (1, 15), records
+    modulus = YOUNGS / (2 * (1 - POISSON**2))          # E* of two equal materials
+    expected = yield_rebound_speed(modulus, RADIUS, pressure, MASS, impact)
+    # coefficientRestitution 1: no dashpot; the integration error at 1e-6 s is far below 0.5 %
+    assert records[0, 13] == pytest.approx(expected, rel=5e-3)
+    assert expected < 0.4 * impact                     # most of the impact energy is dissipated (87 %)
+    assert records[0, 7] > 0.2 and records[0, 10] == 2  # a deep contact with one wall: wall_alone
+    hertz_peak = (15 * MASS * impact**2 / (16 * modulus * math.sqrt(RADIUS))) ** 0.4 / RADIUS
+    assert records[0, 7] > hertz_peak                  # the yielding contact goes deeper than Hertz
+    assert run.last("q10") == pytest.approx(0.5 * MASS * expected**2, rel=1e-2)
+
+
+def test_a_yield_pressure_that_is_not_positive_is_refused(tmp_path):
+    text = HEADER.replace("pair_style gran model hertz", "fix m5 all property/global yieldPressure peratomtypepair 1 "
+                          "-5\npair_style gran model hertz") + walls(["plane"]).replace("model hertz", "model yield") + \
+        "run 1\n"
+    run = run_lmp(text, tmp_path, files={"plane.stl": PLANE, "disc.stl": DISC}, expect_error=True)
+    assert "model yield, atom types 1 1: yieldPressure = -5" in run.log and "(0, inf) Pa" in run.log, run.log[-1500:]
