@@ -53,7 +53,8 @@ int FixWallGranCorotating::wall_gran_arguments(int narg, char **arg)
 {
   for (int i = 3; i < narg; ++i)
     if (strcmp(arg[i], "corotate") == 0 || strcmp(arg[i], "fixed") == 0 || strcmp(arg[i], "max_contacts") == 0 ||
-        strcmp(arg[i], "screw_dump") == 0 || strcmp(arg[i], "list_skin") == 0)
+        strcmp(arg[i], "screw_dump") == 0 || strcmp(arg[i], "list_skin") == 0 ||
+        strcmp(arg[i], "restart_contacts") == 0)
       return i;
   return narg;
 }
@@ -152,6 +153,16 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
       iarg += 2;
       continue;
     }
+    if (key == "restart_contacts") {
+      if (iarg + 2 > narg) fail("restart_contacts needs 'keep' or 'reset'");
+      const std::string value = arg[iarg + 1];
+      if (value != "keep" && value != "reset")
+        fail("restart_contacts = '" + value + "' is not allowed: 'keep' (continue the contacts of a restart file) or "
+             "'reset' (start every particle-wall contact afresh, e.g. after a change of wall model)");
+      reset_restart_contacts_ = value == "reset";
+      iarg += 2;
+      continue;
+    }
     if (key == "fixed") {
       if (iarg + 2 > narg) fail("fixed needs a mesh fix ID");
       Screw s;
@@ -165,7 +176,7 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
     if (key != "corotate")
       fail("unknown keyword '" + key +
            "' after the wall/gran arguments (allowed: corotate, fixed, max_contacts, "
-           "list_skin, screw_dump)");
+           "list_skin, screw_dump, restart_contacts)");
     if (iarg + 11 > narg) fail("corotate needs: <mesh fix ID> origin x y z axis ax ay az period T");
     Screw s;
     s.mesh_id = arg[iarg + 1];
@@ -882,6 +893,11 @@ void FixWallGranCorotating::unpack_restart(int nlocal, int nth)
   int m = 0;
   for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
   const int count = static_cast<int>(extra[nlocal][m + 1]);
+  if (reset_restart_contacts_) {  // restart_contacts reset: the particle starts without wall contacts
+    set_arrays(nlocal);
+    contact_count_[nlocal] = 0;
+    return;
+  }
   if (count > max_contacts_)
     error->one(FLERR,
                (std::string("fix ") + id + " wall/gran/corotating: the restart file holds " + std::to_string(count) +
@@ -909,10 +925,15 @@ void FixWallGranCorotating::write_restart(FILE *fp)
 void FixWallGranCorotating::restart(char *buf)
 {
   const double *list = reinterpret_cast<const double *>(buf);
-  if (static_cast<int>(list[2]) != history_size_ || static_cast<size_t>(list[3]) != screws_.size())
+  if (static_cast<size_t>(list[3]) != screws_.size() ||
+      (static_cast<int>(list[2]) != history_size_ && !reset_restart_contacts_))
     fail("the restart file was written with " + number(list[3]) + " corotating meshes and " + number(list[2]) +
          " history values per contact; this input has " + std::to_string(screws_.size()) + " and " +
-         std::to_string(history_size_));
+         std::to_string(history_size_) +
+         " (another wall model: 'restart_contacts reset' starts every particle-wall contact afresh)");
+  if (comm->me == 0 && reset_restart_contacts_)
+    error->message(FLERR, (std::string("fix ") + id + " wall/gran/corotating: restart_contacts reset: every "
+                           "particle-wall contact of the restart file starts afresh").c_str());
   clock_.load(list[0], list[1]);
 }
 

@@ -9,6 +9,7 @@
 //   fix ID group wall/gran/corotating <fix wall/gran arguments> &
 //       corotate <mesh fix ID> origin x y z axis ax ay az period T [corotate ...] &
 //       [fixed <mesh fix ID> ...] [max_contacts K (64)] [list_skin s] [screw_dump N prefix]
+//       [restart_contacts keep|reset (keep)]
 //
 // Output vector, 7 values per corotating or fixed mesh s (in the order given): force on the screw (N, 3),
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
@@ -19,6 +20,8 @@
 // This step's contacts per particle (deepest δ/R, meshes touched, meshes whose surface its centre
 // has crossed) and the screws' power on the particles: tsg::WallContactSource, read by fix
 // squeeze/ledger (corotating and fixed meshes; meshes left to fix wall/gran are not reported).
+// Restart files keep each particle's screw contacts and their history; restart_contacts reset starts
+// them all afresh instead (needed when the wall model, and so the history layout, changes).
 // When deleted (end of input or unfix) the fix reports the time spent in its own contact handling
 // per step (slowest rank) and how many candidate lists were built.
 //
@@ -158,6 +161,7 @@ private:
   // per-particle capacity for contacts with the named meshes: a particle pressed into a finely
   // meshed curved surface touches many triangles at once (each one a contact, as in fix wall/gran)
   int max_contacts_ = 64;
+  bool reset_restart_contacts_ = false;  // restart_contacts reset
   int most_contacts_ = 0;  // largest number of contacts of one particle seen (reported)
   // candidate lists hold triangles within reach + list skin; default half the neighbour skin (the
   // lists are rebuilt when a particle near a screw moves a list skin in its frame, where the screw's
