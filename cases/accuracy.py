@@ -13,7 +13,7 @@ The reference is the case at the scale's settings with your options (-v, --np, -
     domain          the case: periodic, nonperiodic or full (the reference's physical variables
                     carried over; --domain-var sets the other case's run times)
     sampling        fractions of the reference's sampling window: no run, the reference's own
-                    record truncated (the statistical error against run time)
+                    record truncated (its window bias and statistical error against run time)
     screw_drive     control: stock or corotating (-v screw_drive); its error must be "not resolved"
     np              control: MPI ranks; its error must be "not resolved"
 
@@ -357,7 +357,7 @@ def cell(errors: list[PointError], quantity: str) -> str:
     suffix = f"; {short} scopes too short" if short else ""
     if sampling:
         worst, _ = worst_relative(usable, quantity)
-        return f"statistical ≤ ±{worst:.1%} (95 %){suffix}" if math.isfinite(worst) else f"no relative scale{suffix}"
+        return f"bias + statistical ≤ ±{worst:.1%} (95 %){suffix}" if math.isfinite(worst) else f"no relative scale{suffix}"
     if not resolved:
         worst, _ = worst_relative(usable, quantity)
         within = f" (|error| ≤ {worst:.1%})" if math.isfinite(worst) else ""
@@ -436,9 +436,10 @@ def markdown(study: Study, points: list[Point], quantities: list[str], controls_
                  "time-series interval); costs are those of all replicas" if study.args.replicas > 1 else ""), "",
              "Error of each point against the reference, the largest over the scopes (elements) of a quantity, "
              "relative to the reference value; ± 95 % interval. 'not resolved': every scope's interval covers "
-             "zero (|error| ≤ the bound shown). Sampling: the reference's own record truncated, its statistical "
-             "half-width. Cost: ranks × LIGGGHTS loop time of the run that gave the number (wall clock: it grows "
-             "with the machine's load); CPU s: user + system time of the whole point, preparation included.", ""]
+             "zero (|error| ≤ the bound shown). Sampling: the reference's own record truncated, its "
+             "bias against the whole record plus its statistical half-width. Cost: ranks × LIGGGHTS loop time "
+             "of the run that gave the number (wall clock: it grows with the machine's load); CPU s: user + system "
+             "time of the whole point, preparation included.", ""]
     header = ["point", "state", "simulated s", "steps / sim-s", "core-s", "core-s / sim-s", "particle-steps / s",
               "CPU s (with preparation)"] + \
              [f"{q} ({KEY_UNITS[q]})" for q in quantities]
@@ -497,7 +498,7 @@ def figures(out: Path, points: list[Point], quantities: list[str]) -> None:
                 continue
             rows.sort()
             x, y, filled = zip(*rows)
-            label = "sampling length (its own 95 % half-width)" if setting == "sampling" else SETTINGS[setting]
+            label = "sampling length (window bias + its 95 % half-width)" if setting == "sampling" else SETTINGS[setting]
             line, = ax.plot(x, y, "-", label=label)
             for xi, yi, fi in rows:
                 ax.plot(xi, yi, "o" if fi else "v", color=line.get_color(), markerfacecolor=line.get_color() if fi else "none")

@@ -7,9 +7,11 @@ Pure logic on run directories (cases/accuracy.py runs the ladders and writes the
   flux estimator Σ m v_x / L, per-element solid fraction, axial velocity and speed, mean residence
   time where complete records exist), over the sampling record up to `end` s (the sampling ladder
   truncates the reference's own record).
-- `point_error(reference, value)`: a fidelity point's error Δ = value − reference ± interval
-  (uncertainty.difference); its bound |Δ| + half-width is the largest error the 95 % interval allows.
-  A sampling point's error is the half-width of its own estimate (the statistical error).
+- `point_errors(reference, value)`: each point's error Δ = value − reference ± interval; its bound
+  |Δ| + half-width is the largest error the 95 % interval allows. A fidelity point's interval is
+  that of the difference of two runs (uncertainty.difference); a sampling point's (the reference's
+  own record truncated, so not independent of it) is the half-width of its own estimate: a shorter
+  or earlier window has a bias Δ as well as a statistical error, and both count.
 - Several scopes looked at together (the 8 elements of a quantity, or every quantity of a control
   run) would show a "significant" 95 % difference by chance in 5 % of the scopes each. A quantity's
   (or a control's) difference counts as resolved only when it is significant with simultaneous
@@ -166,8 +168,9 @@ class Tolerance:
 class PointError:
     """The error of one quantity in one scope at one ladder point against the reference.
 
-    Fidelity point: `difference` = value − reference ± 95 % interval. Sampling point (the reference's
-    own record truncated): `difference` None and the error is the half-width of `value`."""
+    Fidelity point: `difference` = value − reference ± 95 % interval of the difference. Sampling point
+    (the reference's own record truncated): `difference` None; the error is value − reference (the
+    window's bias) ± the half-width of `value` (its statistical error)."""
 
     quantity: str
     scope: str
@@ -186,27 +189,28 @@ class PointError:
         return self.difference is not None and self.difference.significant
 
     @property
+    def offset(self) -> float:
+        """value − reference: a fidelity point's difference, a sampling point's window bias."""
+        return self.value.mean - self.reference.mean if self.difference is None else self.difference.value
+
+    @property
     def half_width(self) -> float:
         return self.value.half_width if self.difference is None else self.difference.half_width
 
     @property
     def bound(self) -> float:
-        """The largest |error| the 95 % interval allows; nan when the inputs are not resolved."""
+        """The largest |error| the 95 % interval allows, |offset| + half-width, for every ladder; nan
+        when the inputs are not resolved."""
         if not self.resolved_inputs:
             return math.nan
-        if self.difference is None:
-            return self.value.half_width
-        return abs(self.difference.value) + self.difference.half_width
+        return abs(self.offset) + self.half_width
 
     @property
     def lower(self) -> float:
-        """The smallest |error| the 95 % interval allows (0 when it covers zero); a sampling point's
-        statistical error is its half-width, known, so lower = bound."""
+        """The smallest |error| the 95 % interval allows (0 when it covers zero)."""
         if not self.resolved_inputs:
             return math.nan
-        if self.difference is None:
-            return self.value.half_width
-        return max(0.0, abs(self.difference.value) - self.difference.half_width)
+        return max(0.0, abs(self.offset) - self.half_width)
 
     @property
     def relative_bound(self) -> float:
@@ -222,8 +226,9 @@ class PointError:
             return self.difference.text(unit)
         if not self.value.resolved:
             return self.value.text(unit)
-        relative = f" ({self.half_width / abs(self.value.mean):.1%})" if self.value.mean != 0 else ""
-        return f"statistical ± {self.half_width:.2g}{' ' + unit if unit else ''}{relative}"
+        unit = f" {unit}" if unit else ""
+        relative = f" ({self.offset / self.reference.mean:+.1%})" if self.reference.mean != 0 else ""
+        return f"window bias {self.offset:+.2g}{unit}{relative}, statistical ± {self.half_width:.2g}{unit}"
 
     def as_dict(self) -> dict:
         def clean(v: float) -> float | None:

@@ -84,15 +84,29 @@ def test_unresolved_inputs_are_too_short_and_have_no_bound():
     assert error.text() == "window too short: too few independent samples (or replicas)"
 
 
-def test_sampling_point_error_is_its_own_half_width():
+def test_sampling_point_error_is_its_bias_plus_its_own_half_width():
     truncated = estimate(10.3, 0.15, half_width=0.3)
     error = PointError("solid fraction", "K1", REFERENCE, truncated, None)
-    assert error.bound == pytest.approx(0.3) and error.relative_bound == pytest.approx(0.03)
-    assert verdict(error, Tolerance.parse("5%")) == MEETS and verdict(error, Tolerance.parse("2%")) == FAILS
-    assert error.lower == pytest.approx(0.3)   # the statistical error is known, not bounded
-    assert error.text() == "statistical ± 0.3 (2.9%)"
+    assert error.offset == pytest.approx(0.3)                          # the window's bias
+    assert error.bound == pytest.approx(0.6) and error.relative_bound == pytest.approx(0.06)
+    assert error.lower == pytest.approx(0.0)                            # the bias is within its half-width
+    assert verdict(error, Tolerance.parse("10%")) == MEETS and verdict(error, Tolerance.parse("5%")) == UNDECIDED
+    assert error.text() == "window bias +0.3 (+3.0%), statistical ± 0.3"
     short = PointError("solid fraction", "K1", REFERENCE, estimate(10.3, 0.15, independent=5.0, half_width=0.3), None)
     assert verdict(short, Tolerance.parse("50%")) == TOO_SHORT and short.text().startswith("window too short")
+
+
+@pytest.mark.parametrize("tolerance, expected", [("5%", FAILS), ("15%", UNDECIDED), ("20%", MEETS)])
+def test_biased_short_window_cannot_meet_a_tolerance_its_mean_contradicts(tolerance, expected):
+    # docs/accuracy/demo-replicas: sampling 0.25, domain flux 5.483 ± 0.075 kg/h (3 replicas) against the
+    # reference's whole record 4.76 ± 0.15 kg/h: +15 %. Its half-width alone (1.4 %) would "meet" 5 %.
+    reference = Estimate(4.76, 0.035, 300, 3.0, 0.15, replicas=3, method="replica means")
+    point = Estimate(5.483, 0.0175, 75, 3.0, 0.075, replicas=3, method="replica means")
+    (error,) = point_errors({("mass flow", "domain flux"): reference}, {("mass flow", "domain flux"): point}, sampling=True)
+    assert error.offset == pytest.approx(0.723)
+    assert error.lower == pytest.approx(0.648) and error.bound == pytest.approx(0.798)
+    assert verdict(error, Tolerance.parse(tolerance)) == expected   # allowed 0.238, 0.714, 0.952 kg/h
+    assert quantity_verdict([error], "mass flow", Tolerance.parse(tolerance)) == expected
 
 
 def test_quantity_verdict_needs_every_scope():
