@@ -50,8 +50,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from tsg_analysis.accuracy import (
-    KEY_UNITS,
-    Key,
     PointError,
     RunCost,
     Tolerance,
@@ -64,8 +62,9 @@ from tsg_analysis.accuracy import (
     sampling_ends,
     worst_relative,
 )
-from tsg_analysis.model import SOLID_FRACTION
-from tsg_analysis.run_files import AnalysisInputError, read_zones
+from tsg_analysis.model import KEY_UNITS, SOLID_FRACTION, Key
+from tsg_analysis.run import Run
+from tsg_analysis.run_files import AnalysisInputError
 from tsg_analysis.uncertainty import Estimate
 from tsg_cases.case_parameters import CASES, RUNNER_SET, ParameterError, check_names, defined_variables
 from tsg_cases.command_line import run_reporting
@@ -311,28 +310,30 @@ class Study:
             for p in points:
                 p.note = "no reference yet"
             return None
-        ref_estimates = replica_key_estimates(reference.run_dirs)
-        ref_zones = read_zones(reference.run_dirs[0] / "zones.txt")
-        ref_costs = [run_cost(d) for d in reference.run_dirs]
+        ref_runs = [Run(d) for d in reference.run_dirs]
+        ref_estimates = replica_key_estimates(ref_runs)
+        ref_zones = ref_runs[0].zones
+        ref_costs = [run_cost(run) for run in ref_runs]
         reference.cost = RunCost.of_replicas(ref_costs)
         sampling = [p for p in points if p.setting == "sampling"]
         if sampling:
             fractions = [float(p.value) for p in sampling]
-            ends = [sampling_ends(d, fractions) for d in reference.run_dirs]  # [replica][fraction]
+            ends = [sampling_ends(run, fractions) for run in ref_runs]  # [replica][fraction]
             for k, p in enumerate(sampling):
                 p.state = "done"
                 mine = [replica_ends[k] for replica_ends in ends]
                 p.cost = RunCost.of_replicas([c.until(end) for c, end in zip(ref_costs, mine)])
                 try:
-                    p.errors = point_errors(ref_estimates, replica_key_estimates(reference.run_dirs, mine), sampling=True)
+                    p.errors = point_errors(ref_estimates, replica_key_estimates(ref_runs, mine), sampling=True)
                 except AnalysisInputError as problem:
                     p.note = str(problem)
         for p in points[1:]:
             if p.setting == "sampling" or p.state != "done":
                 continue
             try:
-                p.cost = RunCost.of_replicas([run_cost(d) for d in p.run_dirs])
-                estimates = replica_key_estimates(p.run_dirs, reference_zones=ref_zones if p.case != reference.case else None)
+                runs = [Run(d) for d in p.run_dirs]
+                p.cost = RunCost.of_replicas([run_cost(run) for run in runs])
+                estimates = replica_key_estimates(runs, reference_zones=ref_zones if p.case != reference.case else None)
                 p.errors = point_errors(ref_estimates, estimates)
             except AnalysisInputError as problem:
                 p.note = str(problem)
