@@ -155,3 +155,23 @@ def test_contact_health_reads_the_guards_columns(tmp_path):
                                         "guard_fast_speed, counted), largest wall overlap/R 0.3, largest speed 9.5 m/s")
     (tmp_path / "log.lammps").write_text("LIGGGHTS\nStep Time Atoms\n0 0 10\nLoop time of 1\n")
     assert contact_health(Run(tmp_path)) is None
+
+
+def test_report_summary_and_accuracy_give_the_same_number_for_one_window(periodic_run, tmp_path):
+    """One run, one window (the report's detected steady start): the report, the summary and the
+    accuracy tool's key quantities are one number each, to the last digit (they all ask tsg_analysis.Run)."""
+    report = build_report([periodic_run[0]], tmp_path, settings=Settings(snapshot=False))
+    analysed = report.runs[0]
+    assert not analysed.transient and analysed.window is not None
+    start = analysed.window[0]
+    from_report = analysed.estimates()
+    summary = summarise(Run(periodic_run[0]), start)
+    key = Run(periodic_run[0]).key_estimates(start=start)
+    keys = [(MASS_FLOW, "domain flux Σ m v_x / L"), (SOLID_FRACTION, "K1"), (AXIAL_VELOCITY, "K1"),
+            (RESIDENCE_RECORDS, "total")]
+    for quantity, scope in keys:
+        a, b, c = from_report[(quantity, scope)], summary.get(quantity, scope), key[(quantity, scope)]
+        assert a.mean == b.mean == c.mean and a.half_width == b.half_width == c.half_width, (quantity, scope)
+        assert a.samples == b.samples == c.samples > 0
+    for (quantity, scope), e in from_report.items():   # every quantity the two share
+        assert summary.get(quantity, scope) == e, (quantity, scope)
