@@ -27,8 +27,8 @@ import os
 import re
 import resource
 import shutil
-import subprocess
 import statistics
+import subprocess
 import tempfile
 from pathlib import Path
 

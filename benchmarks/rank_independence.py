@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tsg_analysis.run import Run
 from tsg_analysis.summary import compare_runs, summarise, sweep_markdown, write_sweep_csv
 from tsg_analysis.uncertainty import replica_outlier
 
@@ -55,12 +56,12 @@ def replica_test(replicas: list[Path], others: dict[int, Path]) -> bool:
     the table and the count outside; True when more fall outside than chance allows (p < 0.01)."""
     from scipy.stats import binomtest
 
-    population = [summarise(d) for d in replicas]
+    population = [summarise(Run(d)) for d in replicas]
     keys = [(r.quantity, r.scope) for r in population[0].rows]
     print(f"\nagainst {len(replicas)} replicas (window means; 95 % prediction interval):")
     tests = outside = 0
     for nprocs, run_dir in others.items():
-        run = summarise(run_dir)
+        run = summarise(Run(run_dir))
         for key in keys:
             estimates = [s.get(*key) for s in population]
             value = run.get(*key)
@@ -101,7 +102,7 @@ def main(argv: list[str] | None = None) -> int:
         runs[nprocs] = out
     reference, *others = args.np
     outlying = replica_test([runs[reference], *args.replicas], {n: runs[n] for n in others}) if args.replicas else False
-    rows = compare_runs([runs[reference]], {f"np{n}": [runs[n]] for n in others})
+    rows = compare_runs([Run(runs[reference])], {f"np{n}": [Run(runs[n])] for n in others})
     table = sweep_markdown(rows)
     print(f"\nagainst np {reference}:\n{table}")
     (args.out / "comparison.md").write_text(table)

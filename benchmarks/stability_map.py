@@ -44,6 +44,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "analysis")]
 from tsg_harness import lmp_executable, mpi_command  # noqa: E402
+
 from tsg_analysis.liggghts_log import parse_thermo  # noqa: E402
 
 BARREL_RADIUS = 0.006   # m
@@ -133,8 +134,8 @@ def barrel_stl() -> str:
     y, z = BARREL_RADIUS * np.cos(angles), BARREL_RADIUS * np.sin(angles)
     facets = []
     for k in range(SEGMENTS):
-        a0 = (0.0, y[k], z[k]); a1 = (0.0, y[k + 1], z[k + 1])
-        b0 = (SLICE_LENGTH, y[k], z[k]); b1 = (SLICE_LENGTH, y[k + 1], z[k + 1])
+        a0, a1 = (0.0, y[k], z[k]), (0.0, y[k + 1], z[k + 1])
+        b0, b1 = (SLICE_LENGTH, y[k], z[k]), (SLICE_LENGTH, y[k + 1], z[k + 1])
         facets += [(a0, b0, b1), (a0, b1, a1)]
     return stl("barrel", facets)
 
@@ -262,7 +263,8 @@ def map_case(case: str, fractions: list[float], bisections: int, window: float, 
 
 
 def table(summary: list[dict], runs: list[Run], reference: float) -> str:
-    lines = ["| case | largest stable f | smallest unstable f | safe f | at f = " f"{reference:g}: pp δ/R | pg δ/R (paddle, barrel) | estimate (s) |",
+    lines = ["| case | largest stable f | smallest unstable f | safe f | at f = "
+             f"{reference:g}: pp δ/R | pg δ/R (paddle, barrel) | estimate (s) |",
              "|---|---|---|---|---|---|---|"]
     for s in summary:
         at = [r for r in runs if r.case == s["case"] and math.isclose(r.fraction, reference)]

@@ -13,7 +13,7 @@ The reference is the case at the scale's settings with your options (-v, --np, -
     domain          the case: periodic, nonperiodic or full (the reference's physical variables
                     carried over; --domain-var sets the other case's run times)
     sampling        fractions of the reference's sampling window: no run, the reference's own
-                    record truncated (the statistical error against run time)
+                    record truncated (its window bias and statistical error against run time)
     screw_drive     control: stock or corotating (-v screw_drive); its error must be "not resolved"
     np              control: MPI ranks; its error must be "not resolved"
 
@@ -50,8 +50,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from tsg_analysis.accuracy import (
-    KEY_UNITS,
-    Key,
     PointError,
     RunCost,
     Tolerance,
@@ -64,8 +62,9 @@ from tsg_analysis.accuracy import (
     sampling_ends,
     worst_relative,
 )
-from tsg_analysis.model import SOLID_FRACTION
-from tsg_analysis.run_files import AnalysisInputError, read_zones
+from tsg_analysis.model import KEY_UNITS, SOLID_FRACTION, Key
+from tsg_analysis.run import Run
+from tsg_analysis.run_files import AnalysisInputError
 from tsg_analysis.uncertainty import Estimate
 from tsg_cases.case_parameters import CASES, RUNNER_SET, ParameterError, check_names, defined_variables
 from tsg_cases.command_line import run_reporting
@@ -311,28 +310,30 @@ class Study:
             for p in points:
                 p.note = "no reference yet"
             return None
-        ref_estimates = replica_key_estimates(reference.run_dirs)
-        ref_zones = read_zones(reference.run_dirs[0] / "zones.txt")
-        ref_costs = [run_cost(d) for d in reference.run_dirs]
+        ref_runs = [Run(d) for d in reference.run_dirs]
+        ref_estimates = replica_key_estimates(ref_runs)
+        ref_zones = ref_runs[0].zones
+        ref_costs = [run_cost(run) for run in ref_runs]
         reference.cost = RunCost.of_replicas(ref_costs)
         sampling = [p for p in points if p.setting == "sampling"]
         if sampling:
             fractions = [float(p.value) for p in sampling]
-            ends = [sampling_ends(d, fractions) for d in reference.run_dirs]  # [replica][fraction]
+            ends = [sampling_ends(run, fractions) for run in ref_runs]  # [replica][fraction]
             for k, p in enumerate(sampling):
                 p.state = "done"
                 mine = [replica_ends[k] for replica_ends in ends]
                 p.cost = RunCost.of_replicas([c.until(end) for c, end in zip(ref_costs, mine)])
                 try:
-                    p.errors = point_errors(ref_estimates, replica_key_estimates(reference.run_dirs, mine), sampling=True)
+                    p.errors = point_errors(ref_estimates, replica_key_estimates(ref_runs, mine), sampling=True)
                 except AnalysisInputError as problem:
                     p.note = str(problem)
         for p in points[1:]:
             if p.setting == "sampling" or p.state != "done":
                 continue
             try:
-                p.cost = RunCost.of_replicas([run_cost(d) for d in p.run_dirs])
-                estimates = replica_key_estimates(p.run_dirs, reference_zones=ref_zones if p.case != reference.case else None)
+                runs = [Run(d) for d in p.run_dirs]
+                p.cost = RunCost.of_replicas([run_cost(run) for run in runs])
+                estimates = replica_key_estimates(runs, reference_zones=ref_zones if p.case != reference.case else None)
                 p.errors = point_errors(ref_estimates, estimates)
             except AnalysisInputError as problem:
                 p.note = str(problem)
@@ -357,7 +358,7 @@ def cell(errors: list[PointError], quantity: str) -> str:
     suffix = f"; {short} scopes too short" if short else ""
     if sampling:
         worst, _ = worst_relative(usable, quantity)
-        return f"statistical ≤ ±{worst:.1%} (95 %){suffix}" if math.isfinite(worst) else f"no relative scale{suffix}"
+        return f"bias + statistical ≤ ±{worst:.1%} (95 %){suffix}" if math.isfinite(worst) else f"no relative scale{suffix}"
     if not resolved:
         worst, _ = worst_relative(usable, quantity)
         within = f" (|error| ≤ {worst:.1%})" if math.isfinite(worst) else ""
@@ -436,9 +437,10 @@ def markdown(study: Study, points: list[Point], quantities: list[str], controls_
                  "time-series interval); costs are those of all replicas" if study.args.replicas > 1 else ""), "",
              "Error of each point against the reference, the largest over the scopes (elements) of a quantity, "
              "relative to the reference value; ± 95 % interval. 'not resolved': every scope's interval covers "
-             "zero (|error| ≤ the bound shown). Sampling: the reference's own record truncated, its statistical "
-             "half-width. Cost: ranks × LIGGGHTS loop time of the run that gave the number (wall clock: it grows "
-             "with the machine's load); CPU s: user + system time of the whole point, preparation included.", ""]
+             "zero (|error| ≤ the bound shown). Sampling: the reference's own record truncated, its "
+             "bias against the whole record plus its statistical half-width. Cost: ranks × LIGGGHTS loop time "
+             "of the run that gave the number (wall clock: it grows with the machine's load); CPU s: user + system "
+             "time of the whole point, preparation included.", ""]
     header = ["point", "state", "simulated s", "steps / sim-s", "core-s", "core-s / sim-s", "particle-steps / s",
               "CPU s (with preparation)"] + \
              [f"{q} ({KEY_UNITS[q]})" for q in quantities]
@@ -497,7 +499,7 @@ def figures(out: Path, points: list[Point], quantities: list[str]) -> None:
                 continue
             rows.sort()
             x, y, filled = zip(*rows)
-            label = "sampling length (its own 95 % half-width)" if setting == "sampling" else SETTINGS[setting]
+            label = "sampling length (window bias + its 95 % half-width)" if setting == "sampling" else SETTINGS[setting]
             line, = ax.plot(x, y, "-", label=label)
             for xi, yi, fi in rows:
                 ax.plot(xi, yi, "o" if fi else "v", color=line.get_color(), markerfacecolor=line.get_color() if fi else "none")

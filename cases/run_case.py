@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from tsg_analysis.liggghts_log import parse_thermo
+from tsg_analysis.run import Run
 from tsg_analysis.run_files import read_zones
 from tsg_analysis.summary import summary_table
 from tsg_cases import prepared
@@ -285,11 +286,11 @@ def run(args: argparse.Namespace) -> int:
         error = first_error(out)
         print(f"[run] lmp failed (exit {returncode}): {error or 'see ' + str(out / 'screen.txt')}", file=sys.stderr)
         return 1
-    log = (out / "log.lammps").read_text(errors="replace")
-    thermo = parse_thermo(log)
+    run = Run(out)
+    thermo = parse_thermo(run.log)
     steps = int(sum(block["Step"][-1] - block["Step"][0] for block in thermo))
     print(f"[run] done in {wall:.0f} s ({steps} steps, {wall / max(steps, 1) * 1e3:.2f} ms/step)")
-    print(summary_table(out))
+    print(summary_table(run))
     return 0
 
 

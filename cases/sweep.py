@@ -39,8 +39,12 @@ import shlex
 import subprocess
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from tsg_cases.case_parameters import ParameterError, check_names, check_values, defined_variables
+
+if TYPE_CHECKING:
+    from tsg_analysis.run import Run
 
 BOTH = ("pp", "pg")   # Table 4: χ, μs and μr apply to both particle–particle and particle–geometry
 
@@ -236,18 +240,18 @@ def window_start(text: str | None) -> float | str | None:
     return value
 
 
-def detected_steady_start(runs: list[Path]) -> tuple[float, str]:
+def detected_steady_start(runs: list[Run]) -> tuple[float, str]:
     """The latest start of stationarity of the domain flux over the runs (each in the first half of
     its record: tsg_analysis.validation.steady_start), and a line naming each."""
     from tsg_analysis.validation import STEADY_WITHIN, steady_start
 
     found = {}
-    for run_dir in runs:
-        start = steady_start(run_dir)
+    for run in runs:
+        start = steady_start(run)
         if start is None:
-            raise ParameterError(f"--start auto: {run_dir} has too short a domain-flux record to detect a steady state "
+            raise ParameterError(f"--start auto: {run.path} has too short a domain-flux record to detect a steady state "
                                  "(fewer than 10 element blocks); give --start T")
-        found[run_dir] = start
+        found[run.path] = start
     latest = max(found.values())
     names = ", ".join(f"{d.parent.name}/{d.name} {t:.3g}" for d, t in found.items())
     return latest, (f"stationary from (s; domain flux; pymbar's criterion, origin in the first {STEADY_WITHIN:.0%} "
@@ -257,15 +261,16 @@ def detected_steady_start(runs: list[Path]) -> tuple[float, str]:
 def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | None = None, parts: int = 2) -> int:
     from tsg_analysis.figures import plot_element_panels, plot_paper_mass_flow
     from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+    from tsg_analysis.run import Run
     from tsg_analysis.run_files import AnalysisInputError
     from tsg_analysis.summary import compare_runs, sweep_markdown, thermo_largest, write_sweep_csv
     from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown, flux_parts, parts_markdown
 
-    settings: dict[str, list[Path]] = {}
+    settings: dict[str, list[Run]] = {}
     for name, run_dir in dirs.items():
         settings.setdefault(name.split("/")[0], [])
         if state(run_dir) == "done":
-            settings[name.split("/")[0]].append(run_dir)
+            settings[name.split("/")[0]].append(Run(run_dir))
     if not settings.get("reference"):
         raise ParameterError(f"{sweep}: the reference has no finished run yet (tsg-sweep status {sweep})")
     variants = {name: runs for name, runs in settings.items() if name != "reference" and runs}
@@ -284,7 +289,7 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
     counts = ", ".join(f"{name} {len(runs)}/{sum(1 for n in dirs if n.split('/')[0] == name)}"
                        for name, runs in settings.items())
     failed = [f"{name} ({state(d)})" for name, d in dirs.items() if state(d).startswith("failed")]
-    releases = {name: [thermo_largest(d, "fast") for d in runs] for name, runs in settings.items() if runs}
+    releases = {name: [thermo_largest(run, "fast") for run in runs] for name, runs in settings.items() if runs}
     counted = "; ".join(f"{name} {', '.join('-' if n is None else str(int(n)) for n in values)}"
                         for name, values in releases.items())
     header = f"Sweep {sweep}: finished runs per setting (replicas combined): {counts}." + (

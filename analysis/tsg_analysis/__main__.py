@@ -20,6 +20,7 @@ from typing import NoReturn
 
 from .cross_section import BORE_RADIUS, DEFAULT_BIN_SIZE
 from .massflow import STEADY_TOLERANCE
+from .run import Run
 from .run_files import AnalysisInputError
 
 USAGE_ERROR = 2
@@ -99,17 +100,17 @@ def _summary(args: argparse.Namespace) -> int:
 
     if not args.run_dir.is_dir():
         raise UsageError(f"run_dir {args.run_dir}: no such directory")
-    print(summary_table(args.run_dir))
+    print(summary_table(Run(args.run_dir)))
     return 0
 
 
-def _replicas(argument: str) -> list[Path]:
+def _replicas(argument: str) -> list[Run]:
     """'a,b,c': replica runs (differing only in the seed) combined into one entry."""
     run_dirs = [Path(part) for part in argument.split(",") if part]
     for run_dir in run_dirs or [Path(argument)]:
         if not run_dir.is_dir():
             raise UsageError(f"run_dir {run_dir}: no such directory")
-    return run_dirs
+    return [Run(run_dir) for run_dir in run_dirs]
 
 
 def _compare(args: argparse.Namespace) -> int:
@@ -119,8 +120,8 @@ def _compare(args: argparse.Namespace) -> int:
     variants = {argument: _replicas(argument) for argument in args.run_dirs}
     if args.csv is not None and args.csv.is_dir():
         raise UsageError(f"--csv {args.csv}: is a directory; give a file name")
-    every = reference + [run_dir for run_dirs in variants.values() for run_dir in run_dirs]
-    start = None if args.start is None else max(_start("--start", args.start, run_dir) for run_dir in every)
+    every = reference + [run for runs in variants.values() for run in runs]
+    start = None if args.start is None else max(_start("--start", args.start, run) for run in every)
     if start is not None:
         print(f"every run from t = {start:.4g} s" + (" (the latest detected steady start)" if args.start == "auto" else ""))
     rows = compare_runs(reference, variants, start)
@@ -130,14 +131,14 @@ def _compare(args: argparse.Namespace) -> int:
     return 0
 
 
-def _start(option: str, text: str, run_dir: Path) -> float:
+def _start(option: str, text: str, run: Run) -> float:
     """--*-start: a time in s >= 0, or 'auto' (the run's detected steady start)."""
     from .validation import steady_start
 
     if text == "auto":
-        found = steady_start(run_dir)
+        found = steady_start(run)
         if found is None:
-            raise UsageError(f"{option} auto: {run_dir} has too short a record to detect a steady state; give a time")
+            raise UsageError(f"{option} auto: {run.path} has too short a record to detect a steady state; give a time")
         return found
     try:
         value = float(text)
@@ -149,33 +150,33 @@ def _start(option: str, text: str, run_dir: Path) -> float:
 
 
 def _domains(args: argparse.Namespace) -> int:
-    from .accuracy import SPEED
     from .domains import TIME_BY_BALANCE, UNITS, compare_domains, domains_markdown, full_steady_start, machine_residence, section_holdup
     from .figures import plot_domain_elements, plot_rtd_comparison
-    from .model import AXIAL_VELOCITY, SOLID_FRACTION
+    from .model import AXIAL_VELOCITY, SOLID_FRACTION, SPEED
     from .run_files import read_zones
 
     if not args.full_run.is_dir():
         raise UsageError(f"full_run {args.full_run}: no such directory")
     if args.periodic is None and args.periodic_zones is None:
         raise UsageError("domains: give --periodic a,b,c (runs to compare) or --periodic-zones FILE (the hold-up only)")
+    full_run = Run(args.full_run)
     periodic = _replicas(args.periodic) if args.periodic is not None else []
-    section = read_zones(args.periodic_zones if args.periodic is None else periodic[0] / "zones.txt")
+    section = read_zones(args.periodic_zones) if args.periodic is None else periodic[0].zones  # a zones file, not a run
     # the full run fills from empty: its steady start is found on the section's hold-up and flux
-    full_start = (full_steady_start(args.full_run, section) if args.full_start == "auto"
-                  else _start("--full-start", args.full_start, args.full_run))
+    full_start = (full_steady_start(full_run, section) if args.full_start == "auto"
+                  else _start("--full-start", args.full_start, full_run))
     if args.periodic is None:
-        holdup = section_holdup(args.full_run, section, full_start)
+        holdup = section_holdup(full_run, section, full_start)
         print(f"hold-up on the periodic domain's elements from t = {full_start:.4g} s: {holdup.mean * 1e3:.4g} g "
               f"(in kg: {holdup.text('kg')})")
-        print(machine_residence(args.full_run, full_start).text())
+        print(machine_residence(full_run, full_start).text())
         return 0
     if args.out is None:
         raise UsageError("domains --periodic: give --out DIR for the table and the figure")
     starts = [_start("--periodic-start", args.periodic_start, d) for d in periodic]
-    comparison = compare_domains(args.full_run, periodic, full_start, max(starts))
+    comparison = compare_domains(full_run, periodic, full_start, max(starts))
     args.out.mkdir(parents=True, exist_ok=True)
-    header = (f"Periodic {', '.join(str(d) for d in periodic)} (from t = {max(starts):.4g} s) against full "
+    header = (f"Periodic {', '.join(str(run.path) for run in periodic)} (from t = {max(starts):.4g} s) against full "
               f"{args.full_run} (from t = {full_start:.4g} s).\n\n")
     text = header + domains_markdown(comparison)
     (args.out / "domains.md").write_text(text, encoding="utf-8")

@@ -3,13 +3,15 @@ with its 95 % interval, the cost of the run, and the cheapest setting that meets
 
 Pure logic on run directories (cases/accuracy.py runs the ladders and writes the outputs):
 
-- `key_estimates(run_dir, end=None)`: mean ± 95 % interval of the key quantities (mass flow by the
-  flux estimator Σ m v_x / L, per-element solid fraction, axial velocity and speed, mean residence
-  time where complete records exist), over the sampling record up to `end` s (the sampling ladder
-  truncates the reference's own record).
-- `point_error(reference, value)`: a fidelity point's error Δ = value − reference ± interval
-  (uncertainty.difference); its bound |Δ| + half-width is the largest error the 95 % interval allows.
-  A sampling point's error is the half-width of its own estimate (the statistical error).
+- The key quantities of a run are `Run.key_estimates` (mass flow by the flux estimator Σ m v_x / L,
+  per-element solid fraction, axial velocity and speed, mean residence time where complete records
+  exist), over the sampling record up to `end` s (the sampling ladder truncates the reference's own
+  record at `sampling_ends`).
+- `point_errors(reference, value)`: each point's error Δ = value − reference ± interval; its bound
+  |Δ| + half-width is the largest error the 95 % interval allows. A fidelity point's interval is
+  that of the difference of two runs (uncertainty.difference); a sampling point's (the reference's
+  own record truncated, so not independent of it) is the half-width of its own estimate: a shorter
+  or earlier window has a bias Δ as well as a statistical error, and both count.
 - Several scopes looked at together (the 8 elements of a quantity, or every quantity of a control
   run) would show a "significant" 95 % difference by chance in 5 % of the scopes each. A quantity's
   (or a control's) difference counts as resolved only when it is significant with simultaneous
@@ -19,7 +21,7 @@ Pure logic on run directories (cases/accuracy.py runs the ladders and writes the
   lower end |Δ| − half-width exceeds it), undecided (the interval straddles the tolerance) or too short.
 - `cheapest(points, quantity, tolerance)`: the cheapest point whose every scope meets the tolerance
   (simultaneous intervals over the quantity's scopes).
-- `run_cost(run_dir)`: loop wall time, ranks, steps, atoms and simulated time from log.lammps.
+- `run_cost(run)`: loop wall time, ranks, steps, atoms and simulated time from log.lammps.
 - Replicas (runs of one setting that differ only in the fill seed): `replica_key_estimates` combines
   their key quantities (uncertainty.combine_replicas: replica window means where each window is too
   short for a time-series interval), `RunCost.of_replicas` adds up their cost.
@@ -30,106 +32,34 @@ import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from .liggghts_log import parse_thermo
-from .massflow import step_clock
-from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS
-from .profiles import domain_throughput, element_estimates
-from .rtd import mean_residence
-from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, read_residence, read_zones
+from .model import KEY_UNITS, Key
+from .run import Run
+from .run_files import AnalysisInputError, Zones
 from .uncertainty import Difference, Estimate, combine_replicas, difference
 
-SPEED = "speed"
-KEY_UNITS = {MASS_FLOW: UNITS[MASS_FLOW], SOLID_FRACTION: UNITS[SOLID_FRACTION], AXIAL_VELOCITY: UNITS[AXIAL_VELOCITY],
-             SPEED: "m/s", RESIDENCE_RECORDS: UNITS[RESIDENCE_RECORDS]}
 MEETS, FAILS, UNDECIDED, TOO_SHORT = "meets", "fails", "undecided", "window too short"
 
-Key = tuple[str, str]  # (quantity, scope)
 
+# ---- key quantities of replicas ------------------------------------------------------------------
 
-# ---- key quantities of one run -------------------------------------------------------------------
-
-def aligned_labels(zones: Zones, reference: Zones) -> list[str | None]:
-    """Each zone's label in the reference's numbering, zones aligned on their first kneading element
-    (a periodic sub-domain against the same elements of the full granulator); None where a zone has
-    no counterpart of the same type in the reference."""
-    anchor = zones.kind.index("kneading") if "kneading" in zones.kind else 0
-    reference_anchor = reference.kind.index("kneading") if "kneading" in reference.kind else 0
-    labels: list[str | None] = []
-    for k, kind in enumerate(zones.kind):
-        j = k - anchor + reference_anchor
-        labels.append(reference.labels[j] if 0 <= j < len(reference) and reference.kind[j] == kind else None)
-    return labels
-
-
-def key_estimates(run_dir: Path | str, end: float | None = None, reference_zones: Zones | None = None,
-                  start: float | None = None) -> dict[Key, Estimate]:
-    """Key quantities of a run over its sampling record: the element blocks that begin at or after
-    `start` s and end by `end` s (each bound when given), the residence records that end inside;
-    keyed by (quantity, scope); element scopes are labelled in `reference_zones`' numbering when given."""
-    run_dir = Path(run_dir)
-    zones = read_zones(run_dir / "zones.txt")
-    labels = aligned_labels(zones, reference_zones) if reference_zones is not None else list(zones.labels)
-    stats = read_element_statistics(run_dir / "elements.txt")
-    begins, times = block_times(run_dir)
-    inside = np.ones(len(times), bool)
-    if end is not None:
-        inside &= times <= end + 1e-12
-    if start is not None:
-        inside &= begins >= start - 1e-12
-    if inside.sum() < 2:
-        raise AnalysisInputError(f"{run_dir / 'elements.txt'}: fewer than 2 blocks between {start} s and {end} s")
-    stats = type(stats)(stats.timesteps[inside], stats.values[inside])
-    times = times[inside]
-    by_zone, used = element_estimates(stats, zones, None, times)
-    found: dict[Key, Estimate] = {(MASS_FLOW, DOMAIN_FLUX): domain_throughput(stats, zones, used, times)}
-    for quantity, name in ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity"),
-                           (SPEED, "mean_speed")):
-        found.update({(quantity, label): e for label, e in zip(labels, by_zone[name]) if label is not None})
-    residence = run_dir / "residence.txt"
-    if residence.is_file():
-        records = read_residence(residence)
-        complete = np.isin(records.exit_reason, RTD_EXIT_REASONS)
-        if end is not None:
-            complete &= records.exit_time <= end + 1e-12
-        if start is not None:
-            complete &= records.exit_time > start
-        if complete.sum() >= 2:
-            found[(RESIDENCE_RECORDS, "total")] = mean_residence(records.residence_time[complete],
-                                                                  records.exit_time[complete])
-    return found
-
-
-def replica_key_estimates(run_dirs: Sequence[Path | str], ends: Sequence[float | None] | None = None,
+def replica_key_estimates(runs: Sequence[Run], ends: Sequence[float | None] | None = None,
                           reference_zones: Zones | None = None) -> dict[Key, Estimate]:
-    """Key quantities of replicas of one setting combined key by key (keys every replica has); `ends`:
-    each replica's own end of record (the sampling ladder), or None."""
-    if not run_dirs:
+    """Key quantities (Run.key_estimates) of replicas of one setting combined key by key (keys every
+    replica has); `ends`: each replica's own end of record (the sampling ladder), or None."""
+    if not runs:
         raise AnalysisInputError("no finished replica")
-    ends = list(ends) if ends is not None else [None] * len(run_dirs)
-    each = [key_estimates(d, end, reference_zones) for d, end in zip(run_dirs, ends)]
+    ends = list(ends) if ends is not None else [None] * len(runs)
+    each = [run.key_estimates(end=end, reference_zones=reference_zones) for run, end in zip(runs, ends)]
     return {key: combine_replicas([e[key] for e in each]) for key in each[0] if all(key in e for e in each)}
 
 
-def block_times(run_dir: Path | str) -> tuple[np.ndarray, np.ndarray]:
-    """Begin and end times (s) of each element-statistics block of a run (elements.txt); a block
-    averages the interval before its time step."""
-    run_dir = Path(run_dir)
-    stats = read_element_statistics(run_dir / "elements.txt")
-    clock = step_clock(read_massflow(run_dir / "massflow.txt"))
-    if clock is None or len(stats.timesteps) < 2:
-        raise AnalysisInputError(f"{run_dir}: too short a sampling record to cut")
-    ends = clock.time(stats.timesteps)
-    interval = float(np.median(np.diff(ends)))
-    return ends - interval, ends
-
-
-def sampling_ends(run_dir: Path | str, fractions: Sequence[float]) -> list[float]:
-    """End times (s) of the first `fractions` of a run's sampling record (elements.txt blocks)."""
-    begins, ends = block_times(run_dir)
+def sampling_ends(run: Run, fractions: Sequence[float]) -> list[float]:
+    """End times (s) of the first `fractions` of a run's sampling record (its element blocks)."""
+    begins, ends = run.block_times
     return [float(begins[0]) + f * (float(ends[-1]) - float(begins[0])) for f in fractions]
 
 
@@ -166,8 +96,9 @@ class Tolerance:
 class PointError:
     """The error of one quantity in one scope at one ladder point against the reference.
 
-    Fidelity point: `difference` = value − reference ± 95 % interval. Sampling point (the reference's
-    own record truncated): `difference` None and the error is the half-width of `value`."""
+    Fidelity point: `difference` = value − reference ± 95 % interval of the difference. Sampling point
+    (the reference's own record truncated): `difference` None; the error is value − reference (the
+    window's bias) ± the half-width of `value` (its statistical error)."""
 
     quantity: str
     scope: str
@@ -186,27 +117,28 @@ class PointError:
         return self.difference is not None and self.difference.significant
 
     @property
+    def offset(self) -> float:
+        """value − reference: a fidelity point's difference, a sampling point's window bias."""
+        return self.value.mean - self.reference.mean if self.difference is None else self.difference.value
+
+    @property
     def half_width(self) -> float:
         return self.value.half_width if self.difference is None else self.difference.half_width
 
     @property
     def bound(self) -> float:
-        """The largest |error| the 95 % interval allows; nan when the inputs are not resolved."""
+        """The largest |error| the 95 % interval allows, |offset| + half-width, for every ladder; nan
+        when the inputs are not resolved."""
         if not self.resolved_inputs:
             return math.nan
-        if self.difference is None:
-            return self.value.half_width
-        return abs(self.difference.value) + self.difference.half_width
+        return abs(self.offset) + self.half_width
 
     @property
     def lower(self) -> float:
-        """The smallest |error| the 95 % interval allows (0 when it covers zero); a sampling point's
-        statistical error is its half-width, known, so lower = bound."""
+        """The smallest |error| the 95 % interval allows (0 when it covers zero)."""
         if not self.resolved_inputs:
             return math.nan
-        if self.difference is None:
-            return self.value.half_width
-        return max(0.0, abs(self.difference.value) - self.difference.half_width)
+        return max(0.0, abs(self.offset) - self.half_width)
 
     @property
     def relative_bound(self) -> float:
@@ -222,8 +154,9 @@ class PointError:
             return self.difference.text(unit)
         if not self.value.resolved:
             return self.value.text(unit)
-        relative = f" ({self.half_width / abs(self.value.mean):.1%})" if self.value.mean != 0 else ""
-        return f"statistical ± {self.half_width:.2g}{' ' + unit if unit else ''}{relative}"
+        unit = f" {unit}" if unit else ""
+        relative = f" ({self.offset / self.reference.mean:+.1%})" if self.reference.mean != 0 else ""
+        return f"window bias {self.offset:+.2g}{unit}{relative}, statistical ± {self.half_width:.2g}{unit}"
 
     def as_dict(self) -> dict:
         def clean(v: float) -> float | None:
@@ -395,12 +328,10 @@ class RunCost:
                 "particle_steps_per_second": self.particle_steps_per_second}
 
 
-def run_cost(run_dir: Path | str) -> RunCost:
+def run_cost(run: Run) -> RunCost:
     """The cost of a finished run from its log.lammps: every chunk's loop time and simulated span."""
-    log_path = Path(run_dir) / "log.lammps"
-    if not log_path.is_file():
-        raise AnalysisInputError(f"{log_path}: no log, the run has not been made")
-    log = log_path.read_text(errors="replace")
+    log_path = run.path / "log.lammps"
+    log = run.log
     loops = LOOP.findall(log)
     blocks = [b for b in parse_thermo(log) if "Time" in b and len(b["Time"])]
     if not loops or len(blocks) != len(loops):

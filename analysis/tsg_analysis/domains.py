@@ -5,7 +5,7 @@ The paper runs the full granulator to steady state, gives the periodic sub-domai
 the two element by element. Here:
 
 - `section_holdup`: the mass the full run holds on the elements the periodic domain models, aligned
-  on the first kneading element (accuracy.aligned_labels). The periodic domain's conveying ends are
+  on the first kneading element (Zones.aligned_labels). The periodic domain's conveying ends are
   shorter than the full machine's conveying elements around the block (29.2 against 37.5 mm): their
   mass is taken in proportion to length, i.e. as uniformly filled along each such element.
 - `compare_domains`: each quantity of the periodic runs (replicas combined) against the full run's
@@ -40,14 +40,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from .accuracy import SPEED, aligned_labels, block_times, key_estimates
-from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION, SPEED
 from .rtd import AGREEMENT_KS_DISTANCE, MIN_RECORDS, RTDComparison, compare_rtds, mean_residence
-from .run_files import RTD_EXIT_REASONS, AnalysisInputError, Zones, read_element_statistics, read_massflow, read_residence, read_zones
+from .run import Run
+from .run_files import AnalysisInputError, Zones
 from .uncertainty import (
     MIN_INDEPENDENT,
     Difference,
@@ -83,7 +82,7 @@ class DomainRow:
 
 def section_indices(full: Zones, periodic: Zones) -> list[int]:
     """For each periodic zone, the index of the full run's zone it stands for."""
-    labels = aligned_labels(full, periodic)
+    labels = full.aligned_labels(periodic)
     found = {label: i for i, label in enumerate(labels) if label is not None}
     missing = [label for label in periodic.labels if label not in found]
     if missing:
@@ -92,12 +91,12 @@ def section_indices(full: Zones, periodic: Zones) -> list[int]:
     return [found[label] for label in periodic.labels]
 
 
-def _steady_blocks(run_dir: Path, start: float) -> tuple[np.ndarray, np.ndarray]:
-    begins, ends = block_times(run_dir)
-    used = begins >= start - 1e-12
+def _steady_blocks(run: Run, start: float | None) -> tuple[np.ndarray, np.ndarray]:
+    """The element blocks from `start` s on (all when None) and their end times, s."""
+    used = run.blocks(start)
     if used.sum() < 2:
-        raise AnalysisInputError(f"{run_dir}: fewer than 2 element blocks from {start} s")
-    return used, ends[used]
+        raise AnalysisInputError(f"{run.path}: fewer than 2 element blocks from {start or 0} s")
+    return used, run.block_times[1][used]
 
 
 FILLING_WITHIN = 0.75   # a filling run's steady window keeps at least the last quarter of its record
@@ -134,27 +133,27 @@ def filling_steady_start(holdup: np.ndarray, flux: np.ndarray, times: np.ndarray
     return start
 
 
-def full_steady_start(full_run: Path, periodic: Zones) -> float:
+def full_steady_start(full_run: Run, periodic: Zones) -> float:
     """The full run's steady start on the periodic domain's section: filling_steady_start of the
     section's hold-up and flux (AnalysisInputError naming the run when there is none yet)."""
-    full = read_zones(full_run / "zones.txt")
+    full = full_run.zones
     index = section_indices(full, periodic)
-    stats = read_element_statistics(full_run / "elements.txt")
-    used, times = _steady_blocks(full_run, 0.0)
+    stats = full_run.elements
+    used, times = _steady_blocks(full_run, None)
     mass = stats.column("mass")[used][:, index]
     share = (periodic.x_end - periodic.x_start) / (full.x_end - full.x_start)[index]
     momentum = mass * stats.column("mean_axial_velocity")[used][:, index]
     try:
         return filling_steady_start((mass * share).sum(axis=1), momentum.sum(axis=1), times, MIN_INDEPENDENT)
     except ValueError as problem:
-        raise AnalysisInputError(f"{full_run}: no steady window on the periodic domain's section: {problem}") from None
+        raise AnalysisInputError(f"{full_run.path}: no steady window on the periodic domain's section: {problem}") from None
 
 
-def section_holdup(full_run: Path, periodic: Zones, start: float) -> Estimate:
+def section_holdup(full_run: Run, periodic: Zones, start: float) -> Estimate:
     """Mass (kg) the full run holds on the periodic domain's elements from `start` s on, ± 95 %."""
-    full = read_zones(full_run / "zones.txt")
+    full = full_run.zones
     index = section_indices(full, periodic)
-    stats = read_element_statistics(full_run / "elements.txt")
+    stats = full_run.elements
     used, times = _steady_blocks(full_run, start)
     mass = stats.column("mass")[used]
     full_length = full.x_end - full.x_start
@@ -162,36 +161,35 @@ def section_holdup(full_run: Path, periodic: Zones, start: float) -> Estimate:
     return estimate_mean((mass[:, index] * share).sum(axis=1), times, float(times[0]))
 
 
-def _section_flux(full_run: Path, periodic: Zones, start: float) -> Estimate:
-    full = read_zones(full_run / "zones.txt")
+def _section_flux(full_run: Run, periodic: Zones, start: float) -> Estimate:
+    full = full_run.zones
     index = section_indices(full, periodic)
-    stats = read_element_statistics(full_run / "elements.txt")
+    stats = full_run.elements
     used, times = _steady_blocks(full_run, start)
     momentum = (stats.column("mass")[used] * stats.column("mean_axial_velocity")[used])[:, index]
     length = float(np.sum((full.x_end - full.x_start)[index]))
     return estimate_mean(momentum.sum(axis=1) / length * SECONDS_PER_HOUR, times, float(times[0]))
 
 
-def passage_times(run_dir: Path, zone_indices: Sequence[int], start: float, weights: np.ndarray | None = None,
+def passage_times(run: Run, zone_indices: Sequence[int], start: float, weights: np.ndarray | None = None,
                   horizon: float = 0.0) -> np.ndarray:
     """Per complete record ending after `start` s (outlet or periodic pass) and at least `horizon` s
     after the first recorded entry, the time spent in the given zones together (s; each zone's time
     times its weight), in exit order."""
-    records = read_residence(run_dir / "residence.txt")
+    records = run.residence
     if not len(records.exit_time):
         return np.zeros(0)
     origin = float(records.entry_time.min())
-    complete = (np.isin(records.exit_reason, RTD_EXIT_REASONS) & (records.exit_time > start)
-                & (records.exit_time >= origin + horizon))
+    complete = run.records(start) & (records.exit_time >= origin + horizon)
     order = np.argsort(records.exit_time[complete], kind="stable")
     chosen = records.time_by_zone[complete][:, list(zone_indices)]
     scale = np.ones(len(zone_indices)) if weights is None else np.asarray(weights, dtype=float)
     return (chosen @ scale)[order]
 
 
-def counted_lengths(zones: Zones, periodic_runs: Sequence[Path]) -> np.ndarray:
+def counted_lengths(zones: Zones, periodic_runs: Sequence[Run]) -> np.ndarray:
     """Per periodic zone, the length inside the runs' analysis domain (their records' header; m)."""
-    domains = {read_residence(d / "residence.txt").analysis_domain for d in periodic_runs}
+    domains = {run.residence.analysis_domain for run in periodic_runs}
     if len(domains) != 1:
         raise AnalysisInputError(f"the periodic runs' records have different analysis domains: {sorted(map(str, domains))}")
     (domain,) = domains
@@ -208,7 +206,7 @@ class FullPasses:
     snapshot: float           # the time of the snapshot of the particles still inside, s
 
 
-def full_passes(run_dir: Path, last_zone: int, after: float) -> FullPasses:
+def full_passes(run: Run, last_zone: int, after: float) -> FullPasses:
     """The passes of the zones up to `last_zone` (an index of the run's zones) that ended after `after`
     s and by the run's latest snapshot of the particles still inside ("inside" records).
 
@@ -219,11 +217,11 @@ def full_passes(run_dir: Path, last_zone: int, after: float) -> FullPasses:
     that did not return upstream after it first left the stretch (for one that did, earlier by its
     time downstream before it returned). Outlet records after the snapshot (a run continued without a
     new one) are left out."""
-    records = read_residence(run_dir / "residence.txt")
-    zones = read_zones(run_dir / "zones.txt")
+    records = run.residence
+    zones = run.zones
     inside = records.exit_reason == "inside"
     if not inside.any():
-        raise AnalysisInputError(f"{run_dir}: no 'inside' records: the passes of the section are known only with a "
+        raise AnalysisInputError(f"{run.path}: no 'inside' records: the passes of the section are known only with a "
                                  "snapshot of the particles still inside at the end (the full case's -v inside_records 1)")
     snapshot = float(records.exit_time[inside].max())
     latest = inside & np.isclose(records.exit_time, snapshot, rtol=0.0, atol=1e-9)
@@ -238,12 +236,12 @@ def full_passes(run_dir: Path, last_zone: int, after: float) -> FullPasses:
     return FullPasses(records.time_by_zone[chosen][order], exit_time[chosen][order], snapshot)
 
 
-def balance_passage(run_dir: Path, zone_indices: Sequence[int], weights: Sequence[float] | np.ndarray, length: float,
+def balance_passage(run: Run, zone_indices: Sequence[int], weights: Sequence[float] | np.ndarray, length: float,
                     start: float) -> Estimate:
     """Mean time per passage (s) of the zones together by mass balance: length × Σ m / Σ m v_x over
     the blocks from `start` on, each zone's mass times its weight; nan when the net flux is not forward."""
-    stats = read_element_statistics(run_dir / "elements.txt")
-    used, times = _steady_blocks(run_dir, start)
+    stats = run.elements
+    used, _ = _steady_blocks(run, start)
     mass = stats.column("mass")[used][:, list(zone_indices)] * np.asarray(weights, dtype=float)
     momentum = mass * stats.column("mean_axial_velocity")[used][:, list(zone_indices)]
     return estimate_ratio(length * mass.sum(axis=1), momentum.sum(axis=1), detect=False)
@@ -276,20 +274,18 @@ class MachineResidence:
                 f"{balance} (hold-up {self.holdup.mean * 1e3:.4g} g, outflow {self.outflow.text('kg/h')}).")
 
 
-def machine_residence(full_run: Path, start: float) -> MachineResidence:
+def machine_residence(full_run: Run, start: float) -> MachineResidence:
     """The full run's mean residence time from `start` s on: outlet records, and hold-up over throughput."""
-    records = read_residence(full_run / "residence.txt")
-    left = (records.exit_reason == "outlet") & (records.exit_time > start)
+    records = full_run.residence
+    left = full_run.records(start) & (records.exit_reason == "outlet")
     if np.count_nonzero(left) < 2:
-        raise AnalysisInputError(f"{full_run}: {np.count_nonzero(left)} particles left through the outlet after "
+        raise AnalysisInputError(f"{full_run.path}: {np.count_nonzero(left)} particles left through the outlet after "
                                  f"{start:g} s; a mean residence time needs at least 2")
-    stats = read_element_statistics(full_run / "elements.txt")
     used, times = _steady_blocks(full_run, start)
-    holdup = estimate_mean(stats.column("mass")[used].sum(axis=1), times, float(times[0]))
-    flows = read_massflow(full_run / "massflow.txt")
-    outflow = estimate_mean(flows.flow[:, -1], flows.time, start)
+    holdup = estimate_mean(full_run.elements.column("mass")[used].sum(axis=1), times, float(times[0]))
+    outflow = full_run.sensor_flows(start)[full_run.massflow.sensor_names[-1]]
     if not outflow.mean > 0:
-        raise AnalysisInputError(f"{full_run}: the outlet sensor's mean flow after {start:g} s is {outflow.mean:.3g} kg/h; "
+        raise AnalysisInputError(f"{full_run.path}: the outlet sensor's mean flow after {start:g} s is {outflow.mean:.3g} kg/h; "
                                  "hold-up over throughput needs material leaving")
     return MachineResidence(mean_residence(records.residence_time[left], records.exit_time[left]), holdup, outflow)
 
@@ -305,13 +301,13 @@ class DomainComparison:
     records_truncated: dict[str, str]         # run -> why it has no passes to count
 
 
-def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: float,
+def compare_domains(full_run: Run, periodic_runs: Sequence[Run], full_start: float,
                     periodic_start: float) -> DomainComparison:
-    periodic_zones = read_zones(periodic_runs[0] / "zones.txt")
-    full_zones = read_zones(full_run / "zones.txt")
+    periodic_zones = periodic_runs[0].zones
+    full_zones = full_run.zones
     index = section_indices(full_zones, periodic_zones)
-    full = key_estimates(full_run, start=full_start, reference_zones=periodic_zones)
-    each = [key_estimates(d, start=periodic_start) for d in periodic_runs]
+    full = full_run.key_estimates(start=full_start, reference_zones=periodic_zones)
+    each = [run.key_estimates(start=periodic_start) for run in periodic_runs]
     rows: list[DomainRow] = []
     for quantity in (SOLID_FRACTION, SPEED, AXIAL_VELOCITY):
         for label in periodic_zones.labels:
@@ -367,13 +363,13 @@ def compare_domains(full_run: Path, periodic_runs: Sequence[Path], full_start: f
         full_time = _passage_estimate(samples["full"][scope])
         periodic_time = combine_replicas([_passage_estimate(t) for t in by_run if len(t) >= 2] or [_passage_estimate(by_run[0])])
         rows.append(DomainRow(TIME_PER_PASSAGE, scope, full_time, periodic_time, difference(full_time, periodic_time)))
-    truncated.update({str(d): (f"its records end before {h:.3g} s after its first entry ({RECORD_HORIZON:g} balance "
+    truncated.update({str(d.path): (f"its records end before {h:.3g} s after its first entry ({RECORD_HORIZON:g} balance "
                                "times of the section): only the fast passes would have completed")
                       for d, h, times in zip(periodic_runs, periodic_horizons, section_by_run) if len(times) < 2})
     rtds = [compare_rtds(samples["full"][scope], samples["periodic"][scope], scope)
             for scope in RTD_SCOPES
             if min(len(samples["full"][scope]), len(samples["periodic"][scope])) >= MIN_RECORDS]
-    masses = [float(read_element_statistics(d / "elements.txt").column("mass")[-1].sum()) for d in periodic_runs]
+    masses = [float(run.elements.column("mass")[-1].sum()) for run in periodic_runs]
     return DomainComparison(rows, rtds, {"full": {s: samples["full"][s] for s in RTD_SCOPES},
                                          "periodic": {s: samples["periodic"][s] for s in RTD_SCOPES}},
                             section_holdup(full_run, periodic_zones, full_start), float(np.mean(masses)),

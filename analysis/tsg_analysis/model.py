@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -15,11 +16,19 @@ from .rtd import RTDComparison, RTDStatistics
 from .run_files import MassFlowRecord, ResidenceRecords, Zones
 from .uncertainty import Difference, Estimate
 
+if TYPE_CHECKING:
+    from .run import Run
+
 # The quantities every run reports (summary, report, sweep tables), with their units
 MASS_FLOW, RESIDENCE_RECORDS, RESIDENCE_HOLDUP = "mass flow", "residence time (records)", "residence time (hold-up/throughput)"
 SOLID_FRACTION, AXIAL_VELOCITY = "solid fraction", "axial velocity"
 UNITS = {MASS_FLOW: "kg/h", RESIDENCE_RECORDS: "s", RESIDENCE_HOLDUP: "s", SOLID_FRACTION: "-", AXIAL_VELOCITY: "m/s"}
 DOMAIN_FLUX = "domain flux Σ m v_x / L"
+SPEED = "speed"
+# the key quantities of the accuracy study (accuracy.py) and the domain comparison
+KEY_UNITS = {MASS_FLOW: UNITS[MASS_FLOW], SOLID_FRACTION: UNITS[SOLID_FRACTION], AXIAL_VELOCITY: UNITS[AXIAL_VELOCITY],
+             SPEED: "m/s", RESIDENCE_RECORDS: UNITS[RESIDENCE_RECORDS]}
+Key = tuple[str, str]  # (quantity, scope)
 
 
 @dataclass(frozen=True)
@@ -39,6 +48,7 @@ class RunAnalysis:
     label: str
     run_dir: Path
     out_dir: Path
+    source: Run | None = None  # the run directory's files; None when it is not a directory
     parameters: RunParameters | None = None
     zones: Zones | None = None
     records: ResidenceRecords | None = None

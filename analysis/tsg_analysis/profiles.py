@@ -34,23 +34,27 @@ class ElementProfile:
     estimates: dict[str, list[Estimate]]  # quantity -> per zone mean ± 95 % interval (measured quantities only)
 
 
-def block_mask(stats: ElementStatistics, first_step: float | None) -> np.ndarray:
-    """Blocks whose averaging interval starts at or after `first_step` (all when None)."""
-    if first_step is None:
-        return np.ones(len(stats.timesteps), bool)
-    interval = float(np.median(np.diff(stats.timesteps))) if len(stats.timesteps) > 1 else 0.0
-    return stats.timesteps - interval >= first_step - 0.5
+def block_mask(stats: ElementStatistics, first_step: float | None, last_step: float | None = None) -> np.ndarray:
+    """Blocks whose whole averaging interval lies in [first_step, last_step] (a bound None: open),
+    with half a step of slack (the window rule of run.Run)."""
+    steps = stats.timesteps
+    interval = float(np.median(np.diff(steps))) if len(steps) > 1 else 0.0
+    inside = np.ones(len(steps), bool)
+    if first_step is not None:
+        inside &= steps - interval >= first_step - 0.5
+    if last_step is not None:
+        inside &= steps <= last_step + 0.5
+    return inside
 
 
-def element_estimates(stats: ElementStatistics, zones: Zones, first_step: float | None,
+def element_estimates(stats: ElementStatistics, zones: Zones, used: np.ndarray,
                       times: np.ndarray | None = None) -> tuple[dict[str, list[Estimate]], np.ndarray]:
     """Per zone: solid fraction (block mean) and mass-weighted velocities Σ m v / Σ m over the blocks
-    inside the window, each ± 95 % interval; `times` (s, one per block) for start-up detection.
+    `used` (block_mask), each ± 95 % interval; `times` (s, one per block) for start-up detection.
     Returns the estimates and the mask of blocks used."""
     if stats.values.shape[1] != len(zones):
         raise AnalysisInputError(f"elements.txt has {stats.values.shape[1]} rows per block but zones.txt "
                                  f"{len(zones)} zones")
-    used = block_mask(stats, first_step)
     if not used.any():
         raise AnalysisInputError("elements.txt has no block inside the steady window")
     block_times = (np.asarray(times, dtype=np.float64) if times is not None else stats.timesteps.astype(float))[used]

@@ -23,21 +23,13 @@ from . import figures
 from .cross_section import SolidFractionAccumulator
 from .dumps import ParticleFrame, find_dump_files, iter_frames, read_dump_file, step_from_name
 from .liggghts_log import parse_errors, parse_thermo, parse_warnings
-from .massflow import PlaneFlowCounter, decide_steady_state, sensor_flows, step_clock
+from .massflow import PlaneFlowCounter, decide_steady_state
 from .model import Report, RunAnalysis, Settings
-from .parameters import read_run_parameters
-from .profiles import domain_throughput, element_estimates, element_profile, holdup_residence, zone_residence_times
+from .profiles import element_profile, zone_residence_times
 from .report_files import write_outputs
-from .rtd import compare_rtds, mean_residence, rtd_statistics
-from .run_files import (
-    ELEMENT_TYPES,
-    RTD_EXIT_REASONS,
-    AnalysisInputError,
-    read_element_statistics,
-    read_massflow,
-    read_residence,
-    read_zones,
-)
+from .rtd import compare_rtds, rtd_statistics
+from .run import Run
+from .run_files import AnalysisInputError
 from .snapshot import render_snapshot, screw_dumps_at
 from .uncertainty import Estimate, difference
 
@@ -77,11 +69,12 @@ def run_labels(run_dirs: list[Path]) -> list[str]:
 
 # ---- one run --------------------------------------------------------------------------------------
 
+def _source(run: RunAnalysis) -> Run:
+    return _need(run.source, f"{run.run_dir}: not a directory")
+
+
 def _read_log(run: RunAnalysis) -> None:
-    path = run.run_dir / "log.lammps"
-    if not path.is_file():
-        raise AnalysisInputError(f"{path}: file not found")
-    text = path.read_text(encoding="utf-8", errors="replace")
+    text = _source(run).log
     thermo = [block for block in parse_thermo(text) if block]
     warnings = parse_warnings(text)
     last = thermo[-1] if thermo else {}
@@ -103,9 +96,13 @@ def _steady_window(run: RunAnalysis, settings: Settings) -> float:
 
 
 def _decide_window(run: RunAnalysis, settings: Settings) -> None:
-    run.massflow = read_massflow(run.run_dir / "massflow.txt")
+    source = _source(run)
+    run.massflow = source.massflow
     run.notes.extend(run.massflow.issues)
-    run.clock = step_clock(run.massflow)
+    try:
+        run.clock = source.clock
+    except AnalysisInputError:  # a single row: the steady-state decision below says the record is too short
+        run.clock = None
     run.steady = decide_steady_state(run.massflow, _steady_window(run, settings), settings.steady_tolerance)
     if run.steady.reached:
         run.window = (_need(run.steady.start_time, "steady state reached at an unknown time"), run.steady.end_time)
@@ -121,25 +118,25 @@ def _require_window(run: RunAnalysis) -> tuple[float, float]:
     raise AnalysisInputError(f"no steady window: {reason} (without --require-steady the whole record is averaged)")
 
 
+def _bounds(run: RunAnalysis) -> tuple[float | None, float | None]:
+    """The window for Run's window rule: from the steady start to the end of the record, or the
+    whole record of a transient run."""
+    low, _ = _require_window(run)
+    return (None, None) if run.transient else (low, None)
+
+
 def _rtd_selection(run: RunAnalysis) -> np.ndarray:
     """Particles that left through the outlet (or made a periodic pass) inside the window."""
-    low, high = _require_window(run)
-    records = _need(run.records, "no usable residence.txt")
-    return np.isin(records.exit_reason, RTD_EXIT_REASONS) & (records.exit_time > low) & (records.exit_time <= high)
+    return _source(run).records(*_bounds(run))
 
 
 def _analyse_rtd(run: RunAnalysis) -> None:
+    source = _source(run)
+    run.rtd_means = source.residence_means(*_bounds(run))
     selected = _rtd_selection(run)
-    records = _need(run.records, "no usable residence.txt")
+    records = source.residence
     samples = {"total": records.residence_time[selected]}
-    types = run.zones.types_present if run.zones is not None else [
-        t for t in ELEMENT_TYPES if np.any(records.time_by_type[t] > 0)]
-    samples.update({t: records.time_by_type[t][selected] for t in types})
-    if not selected.any():
-        raise AnalysisInputError("no complete residence record (outlet or pass) inside the averaging window: "
-                                 "the window is shorter than a pass")
-    exits = records.exit_time[selected]
-    run.rtd_means = {scope: mean_residence(times, exits) for scope, times in samples.items()}
+    samples.update({t: records.time_by_type[t][selected] for t in source.record_types()})
     run.rtd_stats["total"] = rtd_statistics(samples["total"], f"{run.label}: total RTD")
     run.rtd_samples["total"] = samples.pop("total")
     for scope, times in samples.items():
@@ -150,21 +147,19 @@ def _analyse_rtd(run: RunAnalysis) -> None:
 
 def _analyse_profile(run: RunAnalysis) -> None:
     zones = _need(run.zones, "zones.txt is needed to name the elements")
-    low, _ = _require_window(run)
-    first_step = None if run.transient else _need(run.clock, "the steady window's first step is unknown without massflow.txt").step(low)
+    source = _source(run)
+    bounds = _bounds(run)
     estimates: dict[str, list[Estimate]] = {}
     blocks, records = 0, 0
 
     def from_elements() -> None:
         nonlocal blocks
-        stats = read_element_statistics(run.run_dir / "elements.txt")
-        run.notes.extend(stats.issues)
-        times = run.clock.time(stats.timesteps) if run.clock is not None else stats.timesteps.astype(float)
-        by_zone, used = element_estimates(stats, zones, first_step, times)
-        estimates.update(by_zone)
-        blocks = int(used.sum())
-        run.holdup_residence = holdup_residence(stats, zones, used, times)
-        run.throughput = domain_throughput(stats, zones, used, times)
+        run.notes.extend(source.elements.issues)
+        averages = source.element_averages(*bounds)
+        estimates.update(averages.by_zone)
+        blocks = int(averages.used.sum())
+        run.holdup_residence = averages.holdup_residence
+        run.throughput = averages.throughput
 
     def from_residence() -> None:
         nonlocal records
@@ -294,9 +289,8 @@ def _snapshot(run: RunAnalysis, last_dump: Path, settings: Settings) -> None:
     run.figures["snapshot"] = name
 
 
-def _sensor_flows(run: RunAnalysis) -> dict:
-    low, high = _require_window(run)
-    return sensor_flows(_need(run.massflow, "no usable massflow.txt"), None if run.transient else low, None if run.transient else high)
+def _sensor_flows(run: RunAnalysis) -> dict[str, Estimate]:
+    return _source(run).sensor_flows(*_bounds(run))
 
 
 def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) -> RunAnalysis:
@@ -304,10 +298,11 @@ def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) ->
     if not run.run_dir.is_dir():
         run.missing.append(("everything", f"{run.run_dir}: not a directory"))
         return run
+    source = run.source = Run(run.run_dir)
     slug = _slug(label)
     _attempt(run, "run log", lambda: _read_log(run))
-    _attempt(run, "run parameters", lambda: setattr(run, "parameters", read_run_parameters(run.run_dir)))
-    _attempt(run, "zones", lambda: setattr(run, "zones", read_zones(run.run_dir / "zones.txt")))
+    _attempt(run, "run parameters", lambda: setattr(run, "parameters", source.parameters))
+    _attempt(run, "zones", lambda: setattr(run, "zones", source.zones))
     decided = _attempt(run, "steady state", lambda: _decide_window(run, settings))
     if decided and run.massflow is not None and run.steady is not None:
         _attempt(run, "mean sensor flows", lambda: setattr(run, "sensor_flows", _sensor_flows(run)))
@@ -316,7 +311,7 @@ def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) ->
                                      run.sensor_flows)
     elif not settings.require_steady:
         run.window, run.transient = (-math.inf, math.inf), True
-    read = _attempt(run, "residence records", lambda: setattr(run, "records", read_residence(run.run_dir / "residence.txt")))
+    read = _attempt(run, "residence records", lambda: setattr(run, "records", source.residence))
     if read and run.records is not None:
         run.notes.extend(run.records.issues)
         if _attempt(run, "RTD", lambda: _analyse_rtd(run)):

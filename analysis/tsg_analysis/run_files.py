@@ -59,6 +59,18 @@ class Zones:
     def types_present(self) -> list[str]:
         return [t for t in ELEMENT_TYPES if t in self.kind]
 
+    def aligned_labels(self, reference: Zones) -> list[str | None]:
+        """Each zone's label in the reference's numbering, zones aligned on their first kneading element
+        (a periodic sub-domain against the same elements of the full granulator); None where a zone has
+        no counterpart of the same type in the reference."""
+        anchor = self.kind.index("kneading") if "kneading" in self.kind else 0
+        reference_anchor = reference.kind.index("kneading") if "kneading" in reference.kind else 0
+        labels: list[str | None] = []
+        for k, kind in enumerate(self.kind):
+            j = k - anchor + reference_anchor
+            labels.append(reference.labels[j] if 0 <= j < len(reference) and reference.kind[j] == kind else None)
+        return labels
+
 
 @dataclass(frozen=True)
 class ResidenceRecords:

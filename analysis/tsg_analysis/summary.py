@@ -1,10 +1,10 @@
 """The short summary of a run (what the case runner prints) and sweep tables, every number with its
 95 % confidence interval.
 
-`summarise(run_dir)` averages over the whole sampling record the run wrote (the case inputs start
+`summarise(run)` (a run.Run) averages over the whole sampling record the run wrote (the case inputs start
 their outputs after the start-up), or over its part from `start` s on (a steady window chosen after
 the run), and reports the detected start of stationarity beside it.
-`summary_table(run_dir)` is the text the runner prints. `compare_runs(reference, variants)` gives,
+`summary_table(run)` is the text the runner prints. `compare_runs(reference, variants)` gives,
 for each variant (one or several replica run directories), the difference of every quantity against
 the reference with its interval, marked significant or not; `sweep_markdown` / `write_sweep_csv`
 write it.
@@ -17,15 +17,11 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
-
 from .liggghts_log import parse_thermo
-from .massflow import sensor_flows, step_clock
-from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS
-from .parameters import RunParameters, read_run_parameters
-from .profiles import domain_throughput, element_estimates, holdup_residence
-from .rtd import mean_residence
-from .run_files import RTD_EXIT_REASONS, AnalysisInputError, read_element_statistics, read_massflow, read_residence, read_zones
+from .model import AXIAL_VELOCITY, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS, Key
+from .parameters import RunParameters
+from .run import Run
+from .run_files import AnalysisInputError
 from .uncertainty import Difference, Estimate, combine_replicas, difference
 
 
@@ -59,59 +55,23 @@ def _part(summary: RunSummary, quantity: str, action: Callable[[], None]) -> Non
         summary.not_available.append((quantity, str(problem)))
 
 
-def summarise(run_dir: Path | str, start: float | None = None) -> RunSummary:
+def summarise(run: Run, start: float | None = None) -> RunSummary:
     """Every quantity of the run's summary ± 95 % interval, over the whole sampling record or over
-    its part from `start` s on (element blocks and mass-flow rows that begin at or after it, residence
-    records that end after it)."""
-    run_dir = Path(run_dir)
-    if not run_dir.is_dir():
-        raise AnalysisInputError(f"{run_dir}: not a directory")
-    summary = RunSummary(run_dir, None)
-    _part(summary, "run parameters", lambda: setattr(summary, "parameters", read_run_parameters(run_dir)))
-    zones = read_zones(run_dir / "zones.txt")
-    clock = None
+    its part from `start` s on (the window rule of Run)."""
+    summary = RunSummary(run.path, None)
+    _part(summary, "run parameters", lambda: setattr(summary, "parameters", run.parameters))
+    run.zones  # every per-element number is named by zones.txt: without it there is no summary
 
-    def flows() -> None:
-        nonlocal clock
-        record = read_massflow(run_dir / "massflow.txt")
-        if len(record.time) == 0:
-            raise AnalysisInputError(f"{run_dir / 'massflow.txt'}: no complete window yet")
-        clock = step_clock(record)
-        summary.rows += [SummaryRow(MASS_FLOW, name, e) for name, e in sensor_flows(record, start).items()]
+    def rows(found: dict[Key, Estimate]) -> None:
+        summary.rows += [SummaryRow(quantity, scope, e) for (quantity, scope), e in found.items() if quantity in UNITS]
 
     def records() -> None:
-        data = read_residence(run_dir / "residence.txt")
-        complete = np.isin(data.exit_reason, RTD_EXIT_REASONS)
-        if start is not None:
-            complete &= data.exit_time > start
-        summary.complete_records = int(complete.sum())
-        if not complete.any():
-            raise AnalysisInputError(f"0 complete records ({', '.join(RTD_EXIT_REASONS)}): the sampling window is "
-                                     "shorter than one pass")
-        exits = data.exit_time[complete]
-        summary.rows += [SummaryRow(RESIDENCE_RECORDS, kind, mean_residence(data.time_by_type[kind][complete], exits))
-                         for kind in zones.types_present]
-        summary.rows.append(SummaryRow(RESIDENCE_RECORDS, "total", mean_residence(data.residence_time[complete], exits)))
+        summary.complete_records = int(run.records(start).sum())
+        rows({(RESIDENCE_RECORDS, scope): e for scope, e in run.residence_means(start).items()})
 
-    def elements() -> None:
-        stats = read_element_statistics(run_dir / "elements.txt")
-        times = clock.time(stats.timesteps) if clock is not None else stats.timesteps.astype(float)
-        first_step = None
-        if start is not None:
-            if clock is None:
-                raise AnalysisInputError(f"{run_dir / 'massflow.txt'}: no time axis to start the window at {start} s")
-            first_step = clock.step(start)
-        by_zone, used = element_estimates(stats, zones, first_step, times)
-        summary.rows.append(SummaryRow(MASS_FLOW, DOMAIN_FLUX, domain_throughput(stats, zones, used, times)))
-        summary.rows += [SummaryRow(RESIDENCE_HOLDUP, kind, e)
-                         for kind, e in holdup_residence(stats, zones, used, times).items()]
-        summary.rows += [SummaryRow(SOLID_FRACTION, label, e) for label, e in zip(zones.labels, by_zone["solid_fraction"])]
-        summary.rows += [SummaryRow(AXIAL_VELOCITY, label, e)
-                         for label, e in zip(zones.labels, by_zone["mean_axial_velocity"])]
-
-    _part(summary, MASS_FLOW, flows)
+    _part(summary, MASS_FLOW, lambda: rows({(MASS_FLOW, name): e for name, e in run.sensor_flows(start).items()}))
     _part(summary, RESIDENCE_RECORDS, records)
-    _part(summary, "element statistics", elements)
+    _part(summary, "element statistics", lambda: rows(run.element_keys(start)))
     return summary
 
 
@@ -119,22 +79,22 @@ def _start(value: float | None) -> str:
     return "-" if value is None else f"{value:.4g}"
 
 
-def thermo_largest(run_dir: Path | str, prefix: str) -> float | None:
+def thermo_largest(run: Run, prefix: str) -> float | None:
     """The largest value of the log's thermo columns whose names start with `prefix`, over every
     block; None without such a column (or without log.lammps)."""
-    log = Path(run_dir) / "log.lammps"
-    if not log.is_file():
+    try:
+        log = run.log
+    except AnalysisInputError:
         return None
-    values = [v.max() for b in parse_thermo(log.read_text(errors="replace")) for name, v in b.items()
-              if name.startswith(prefix) and v.size]
+    values = [v.max() for b in parse_thermo(log) for name, v in b.items() if name.startswith(prefix) and v.size]
     return float(max(values)) if values else None
 
 
-def contact_health(run_dir: Path | str) -> str | None:
+def contact_health(run: Run) -> str | None:
     """What the guards of fix check/contact saw over the run, from its thermo columns
     (cases/include/thermo.in): squeeze releases counted (`fast`, cumulative), the largest wall
     overlap/R (`pg_*`) and particle speed; None when the log has none of them."""
-    fast, wall, speed = (thermo_largest(run_dir, prefix) for prefix in ("fast", "pg_", "speed"))
+    fast, wall, speed = (thermo_largest(run, prefix) for prefix in ("fast", "pg_", "speed"))
     if fast is None and wall is None:
         return None
     parts = [f"{int(fast)} squeeze releases (particles faster than guard_fast_speed, counted)"] if fast is not None else []
@@ -143,14 +103,14 @@ def contact_health(run_dir: Path | str) -> str | None:
     return "contacts over the run: " + ", ".join(parts)
 
 
-def summary_table(run_dir: Path | str) -> str:
+def summary_table(run: Run) -> str:
     """The runner's summary: one line per quantity, mean ± 95 % interval or why there is none."""
-    summary = summarise(run_dir)
+    summary = summarise(run)
     lines = []
     if summary.parameters is not None:
         p = summary.parameters
         lines.append(f"parameters ({p.source}): {p.rpm:g} rpm, rho_p {p.rho_p:g} kg/m3, d_mean {p.d_mean:g} m")
-    health = contact_health(run_dir)
+    health = contact_health(run)
     if health is not None:
         lines.append(health)
     lines.append("mean ± 95 % confidence interval over the sampling window (independent samples; 'drifting': "
@@ -183,12 +143,12 @@ class ComparisonRow:
     difference: Difference
 
 
-def combined_rows(run_dirs: Sequence[Path | str], start: float | None = None) -> dict[tuple[str, str], Estimate]:
+def combined_rows(runs: Sequence[Run], start: float | None = None) -> dict[Key, Estimate]:
     """Replicas (runs that differ only in the seed) combined quantity by quantity, each over its
     record from `start` s on (all of it when None)."""
-    if not run_dirs:
+    if not runs:
         raise ValueError("no run directories")
-    summaries = [summarise(d, start) for d in run_dirs]
+    summaries = [summarise(run, start) for run in runs]
     keys = [(r.quantity, r.scope) for r in summaries[0].rows]
     combined = {}
     for key in keys:
@@ -198,14 +158,14 @@ def combined_rows(run_dirs: Sequence[Path | str], start: float | None = None) ->
     return combined
 
 
-def compare_runs(reference: Sequence[Path | str], variants: Mapping[str, Sequence[Path | str]],
+def compare_runs(reference: Sequence[Run], variants: Mapping[str, Sequence[Run]],
                  start: float | None = None) -> list[ComparisonRow]:
     """Each variant against the reference, quantity by quantity: difference ± 95 % interval; every
     run over its record from `start` s on (all of it when None)."""
     base = combined_rows(reference, start)
     rows = []
-    for label, run_dirs in variants.items():
-        for key, value in combined_rows(run_dirs, start).items():
+    for label, runs in variants.items():
+        for key, value in combined_rows(runs, start).items():
             if key in base:
                 rows.append(ComparisonRow(label, *key, base[key], value, difference(base[key], value)))
     return rows

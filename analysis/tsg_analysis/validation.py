@@ -11,14 +11,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from .accuracy import block_times, key_estimates
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
 from .profiles import domain_flux
-from .run_files import AnalysisInputError, read_element_statistics, read_zones
+from .run import Run
+from .run_files import AnalysisInputError
 from .uncertainty import Estimate, detect_start, replica_means
 
 # Section 4: mass flow (kg/h) at MFS_1/MFS_2 of the periodic system; the reference is the full
@@ -141,18 +140,16 @@ def directions_markdown(verdicts: Sequence[Verdict]) -> str:
 STEADY_WITHIN = 0.5  # the steady window keeps at least this share of a run's record
 
 
-def steady_start(run_dir: Path) -> float | None:
+def steady_start(run: Run) -> float | None:
     """When the run's domain flux Σ m v_x / L becomes stationary (s): the start-up detection of
     uncertainty.detect_start with the origin in the first STEADY_WITHIN of the record; None for a
     record under 10 blocks."""
-    stats = read_element_statistics(run_dir / "elements.txt")
-    zones = read_zones(run_dir / "zones.txt")
-    _, ends = block_times(run_dir)
-    flux = domain_flux(stats, zones, np.ones(len(ends), bool))
+    _, ends = run.block_times
+    flux = domain_flux(run.elements, run.zones, np.ones(len(ends), bool))
     return detect_start(flux, ends, STEADY_WITHIN)
 
 
-def flux_parts(run_dirs: Sequence[Path], parts: int = 2, start: float | None = None) -> list[Estimate]:
+def flux_parts(runs: Sequence[Run], parts: int = 2, start: float | None = None) -> list[Estimate]:
     """The domain flux Σ m v_x / L over `parts` consecutive, equal shares of each run's element
     blocks (those that begin at or after `start` s when given), each share combined over the
     replicas (window means): whether a difference from the reference persists or fades as the
@@ -160,15 +157,15 @@ def flux_parts(run_dirs: Sequence[Path], parts: int = 2, start: float | None = N
     if parts < 1:
         raise ValueError(f"parts {parts}: at least 1")
     means: list[list[float]] = [[] for _ in range(parts)]
-    for run_dir in run_dirs:
-        begins, ends = block_times(run_dir)
-        chosen = np.flatnonzero(begins >= start - 1e-12) if start is not None else np.arange(len(ends))
+    for run in runs:
+        begins, ends = run.block_times
+        chosen = np.flatnonzero(run.blocks(start))
         if len(chosen) < 2 * parts:
-            raise AnalysisInputError(f"{run_dir}: {len(chosen)} element blocks"
+            raise AnalysisInputError(f"{run.path}: {len(chosen)} element blocks"
                                      + (f" from {start} s" if start is not None else "")
                                      + f", too few to split in {parts} parts of at least 2")
         for k, share in enumerate(np.array_split(chosen, parts)):
-            flux = key_estimates(run_dir, float(ends[share[-1]]), start=float(begins[share[0]]))
+            flux = run.key_estimates(float(begins[share[0]]), float(ends[share[-1]]))
             means[k].append(flux[(MASS_FLOW, DOMAIN_FLUX)].mean)
     return [replica_means([_point(m) for m in part]) for part in means]
 

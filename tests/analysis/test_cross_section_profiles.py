@@ -7,8 +7,8 @@ from tsg_analysis.cross_section import (BORE_RADIUS, CENTRE_DISTANCE, grid_edges
 from tsg_analysis.dumps import ParticleFrame
 from tsg_analysis.profiles import (aligned_positions, block_mask, domain_throughput, element_estimates,
                                    holdup_residence, zone_residence_times)
-from tsg_analysis.run_files import (AnalysisInputError, ElementStatistics, ResidenceRecords, Zones,
-                                    read_element_statistics, read_zones)
+from tsg_analysis.run import Run
+from tsg_analysis.run_files import AnalysisInputError, ElementStatistics, ResidenceRecords, Zones
 
 BIN = 1e-3
 RADIUS = 3e-4
@@ -72,14 +72,15 @@ def test_velocities_are_mass_weighted_and_blocks_follow_the_window():
               np.array([[0.9, 0.9], [0.1, 0.2], [0.3, 0.4]]),
               np.array([[9.0, 9.0], [1.0, 2.0], [3.0, 0.0]]),
               np.array([[5, 5], [10, 30], [30, 0]], dtype=float))
-    estimates, used = element_estimates(s, ZONES, first_step=100)  # block 100 covers steps 0-100
+    estimates, used = element_estimates(s, ZONES, block_mask(s, 100))  # block 100 covers steps 0-100
     assert used.sum() == 2
     np.testing.assert_allclose([e.mean for e in estimates["solid_fraction"]], [0.2, 0.3])
     np.testing.assert_allclose([e.mean for e in estimates["mean_speed"]], [(10 * 1 + 30 * 3) / 40, 2.0])
     assert not any(e.resolved for e in estimates["mean_speed"])  # two blocks: no interval claimed
     assert list(block_mask(s, None)) == [True, True, True]
+    assert list(block_mask(s, 100, 200)) == [False, True, False]   # block 300 ends after step 200
     with pytest.raises(AnalysisInputError, match="no block inside"):
-        element_estimates(s, ZONES, first_step=1000)
+        element_estimates(s, ZONES, block_mask(s, 1000))
 
 
 def test_holdup_over_throughput_is_littles_law():
@@ -104,9 +105,9 @@ def test_fixture_profiles_recover_the_prescribed_values(periodic_run):
     from make_fixture import ELEMENT_VALUES, STEADY_FROM, DT
 
     run_dir, _ = periodic_run
-    zones = read_zones(run_dir / "zones.txt")
-    estimates, _ = element_estimates(read_element_statistics(run_dir / "elements.txt"), zones,
-                                     first_step=STEADY_FROM / DT)
+    run = Run(run_dir)
+    zones = run.zones
+    estimates, _ = element_estimates(run.elements, zones, block_mask(run.elements, STEADY_FROM / DT))
     expected = np.array([ELEMENT_VALUES[kind] for kind in zones.kind])
     np.testing.assert_allclose([e.mean for e in estimates["solid_fraction"]], expected[:, 0])
     np.testing.assert_allclose([e.mean for e in estimates["mean_axial_velocity"]], expected[:, 2])

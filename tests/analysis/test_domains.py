@@ -13,12 +13,12 @@ import pytest
 import tsg_analysis.domains as domains
 
 from make_fixture import DENSITY, ELEMENT_VALUES, FEED_KG_H, FREE_AREA, LAYOUTS, MEAN_RESIDENCE, write_run
-from tsg_analysis.accuracy import SPEED
 from tsg_analysis.domains import (CONVEYING, KNEADING_BLOCK, RECORD_HORIZON, SECTION, SECTION_FLUX, TIME_BY_BALANCE, TIME_PER_PASSAGE,
                                   compare_domains, domains_markdown, machine_residence, passage_times, section_holdup,
                                   section_indices)
-from tsg_analysis.model import AXIAL_VELOCITY, MASS_FLOW, SOLID_FRACTION
-from tsg_analysis.run_files import AnalysisInputError, read_residence, read_zones
+from tsg_analysis.model import AXIAL_VELOCITY, MASS_FLOW, SOLID_FRACTION, SPEED
+from tsg_analysis.run import Run
+from tsg_analysis.run_files import AnalysisInputError
 
 ANALYSIS_DIR = Path(__file__).resolve().parents[2] / "analysis"
 STEADY = 1.2   # make_fixture.STEADY_FROM: the elements are full from here on
@@ -34,14 +34,14 @@ def runs(tmp_path_factory):
 
 
 def test_the_full_machines_section_is_found_on_its_first_kneading_block(runs):
-    full, periodic = read_zones(runs / "full" / "zones.txt"), read_zones(runs / "periodic-1" / "zones.txt")
+    full, periodic = Run(runs / "full").zones, Run(runs / "periodic-1").zones
     # full: C(50) K1..K6 C(37.5) K7..K12 C(37.5) CH CH; periodic: C K1..K6 C
     assert section_indices(full, periodic) == [0, 1, 2, 3, 4, 5, 6, 7]
 
 
 def test_section_holdup_scales_the_longer_conveying_elements_by_length(runs):
-    periodic = read_zones(runs / "periodic-1" / "zones.txt")
-    holdup = section_holdup(runs / "full", periodic, STEADY)
+    periodic = Run(runs / "periodic-1").zones
+    holdup = section_holdup(Run(runs / "full"), periodic, STEADY)
     # uniformly filled elements: the section holds what the periodic domain's own elements would,
     # each length x free area x solid fraction x density
     expected = sum(FREE_AREA * length * 1e-3 * ELEMENT_VALUES[kind][0] * DENSITY for kind, length in LAYOUTS["periodic"])
@@ -52,7 +52,7 @@ def test_periodic_against_full_element_by_element(runs, monkeypatch):
     # the fixture's records are short against the times they close at (see the test of that below):
     # the records path is checked here without that guard
     monkeypatch.setattr(domains, "RECORD_HORIZON", 0.0)
-    comparison = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
+    comparison = compare_domains(Run(runs / "full"), [Run(runs / f"periodic-{s}") for s in (1, 2, 3)], STEADY, STEADY)
     rows = {(r.quantity, r.scope): r for r in comparison.rows}
     for quantity in (SOLID_FRACTION, SPEED, AXIAL_VELOCITY):   # the same element values in both fixtures
         assert all(not rows[(quantity, label)].difference.significant for label in ("C1", "K1", "K6", "C2"))
@@ -79,7 +79,7 @@ def test_periodic_against_full_element_by_element(runs, monkeypatch):
 
 
 def test_mean_residence_time_of_the_full_machine_two_ways(runs):
-    residence = machine_residence(runs / "full", STEADY)
+    residence = machine_residence(Run(runs / "full"), STEADY)
     # the records: Gamma(TANKS, MEAN_RESIDENCE / TANKS) residence times of the particles that left
     assert residence.records.mean == pytest.approx(MEAN_RESIDENCE, rel=0.1)
     assert abs(residence.records.mean - MEAN_RESIDENCE) < 1.5 * residence.records.half_width
@@ -95,7 +95,7 @@ def test_mean_residence_time_of_the_full_machine_two_ways(runs):
 
 def test_mean_residence_time_needs_particles_leaving(runs):
     with pytest.raises(AnalysisInputError, match="left through the outlet after 5 s"):
-        machine_residence(runs / "full", 5.0)
+        machine_residence(Run(runs / "full"), 5.0)
 
 
 def test_the_command_line_writes_the_table_and_both_figures(runs, tmp_path):
@@ -116,7 +116,7 @@ def test_the_command_line_writes_the_table_and_both_figures(runs, tmp_path):
 
 
 def test_time_per_passage_by_mass_balance_over_the_periodic_lengths(runs):
-    comparison = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
+    comparison = compare_domains(Run(runs / "full"), [Run(runs / f"periodic-{s}") for s in (1, 2, 3)], STEADY, STEADY)
     rows = {(r.quantity, r.scope): r for r in comparison.rows}
     axial = {kind: values[2] for kind, values in ELEMENT_VALUES.items()}
     periodic = LAYOUTS["periodic"]
@@ -136,7 +136,7 @@ def test_records_too_short_against_their_closing_time_are_not_estimated(runs):
     # a periodic record closes when its pass of the domain does: the fixture's section takes 0.70 s by
     # mass balance, and RECORD_HORIZON x 0.70 s after the first entry is past the end of its 1 s record,
     # where only the fast passes would have completed
-    comparison = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
+    comparison = compare_domains(Run(runs / "full"), [Run(runs / f"periodic-{s}") for s in (1, 2, 3)], STEADY, STEADY)
     rows = {(r.quantity, r.scope) for r in comparison.rows}
     # the full fixture's passes count from RECORD_HORIZON x 0.69 s after its steady start, past its end
     assert sorted(comparison.records_truncated) == sorted([*(str(runs / f"periodic-{s}") for s in (1, 2, 3)), "full"])
@@ -145,15 +145,15 @@ def test_records_too_short_against_their_closing_time_are_not_estimated(runs):
     assert not any(quantity == TIME_PER_PASSAGE for quantity, _ in rows) and comparison.rtds == []
     assert "no passes counted for" in domains_markdown(comparison)
     # the same records without the horizon: the fast passes, a number that would be biased
-    assert len(passage_times(runs / "periodic-1", range(8), STEADY)) > 0
-    assert len(passage_times(runs / "periodic-1", range(8), STEADY, horizon=RECORD_HORIZON * 0.6942)) == 0
+    assert len(passage_times(Run(runs / "periodic-1"), range(8), STEADY)) > 0
+    assert len(passage_times(Run(runs / "periodic-1"), range(8), STEADY, horizon=RECORD_HORIZON * 0.6942)) == 0
 
 
 def test_a_side_with_records_is_reported_when_the_other_has_none(runs, monkeypatch):
     # two balance times of the section (0.69 s): after the periodic fixtures' first entries (0 s) within
     # their records (to 2 s), after the full fixture's steady start (1.2 s) past them
     monkeypatch.setattr(domains, "RECORD_HORIZON", 2.0)
-    comparison = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
+    comparison = compare_domains(Run(runs / "full"), [Run(runs / f"periodic-{s}") for s in (1, 2, 3)], STEADY, STEADY)
     row = {(r.quantity, r.scope): r for r in comparison.rows}[(TIME_PER_PASSAGE, KNEADING_BLOCK)]
     assert np.isnan(row.full.mean) and np.isfinite(row.periodic.mean)
     assert not row.difference.significant
@@ -216,10 +216,10 @@ def test_a_hold_up_that_creeps_is_refused():
 
 
 def test_auto_full_start_names_the_run_when_it_refuses(runs, monkeypatch):
-    periodic = read_zones(runs / "periodic-1" / "zones.txt")
+    periodic = Run(runs / "periodic-1").zones
     monkeypatch.setattr(domains, "MIN_INDEPENDENT", 1e9)   # no record is long enough for this
     with pytest.raises(AnalysisInputError, match="no steady window on the periodic domain's section"):
-        domains.full_steady_start(runs / "full", periodic)
+        domains.full_steady_start(Run(runs / "full"), periodic)
 
 
 # ---- the full run's passes of the section: outlet records and the snapshot of those still inside ------
@@ -269,7 +269,7 @@ def test_full_passes_are_every_pass_that_ended_in_the_window(tmp_path):
     from tsg_analysis.domains import full_passes
     truth = _write_machine(tmp_path / "machine", np.random.default_rng(11))
     after = 10.0   # the passes that end from here on began well after the feed started
-    passes = full_passes(tmp_path / "machine", 5, after)
+    passes = full_passes(Run(tmp_path / "machine"), 5, after)
     ended = (truth["section_exit"] > after) & (truth["section_exit"] <= SNAPSHOT)
     assert passes.snapshot == SNAPSHOT and len(passes.exit_time) == np.count_nonzero(ended) > 3000
     np.testing.assert_allclose(passes.exit_time, np.sort(truth["section_exit"][ended]), rtol=0, atol=1e-9)
@@ -278,7 +278,7 @@ def test_full_passes_are_every_pass_that_ended_in_the_window(tmp_path):
     assert stats.kstest(times, stats.gamma(3.0, scale=SECTION_MEAN / 3.0).cdf).pvalue > 0.01
     assert abs(times.mean() - SECTION_MEAN) < 3 * times.std() / np.sqrt(len(times))
     # the outlet records alone miss the passes of particles still downstream: they lean to fast passes
-    records = read_residence(tmp_path / "machine" / "residence.txt")
+    records = Run(tmp_path / "machine").residence
     outlet = records.exit_reason == "outlet"
     exits = records.entry_time + records.time_by_zone[:, :6].sum(axis=1)
     naive = records.time_by_zone[outlet & (exits > after)][:, 1:6].sum(axis=1)
@@ -290,14 +290,14 @@ def test_full_passes_need_a_snapshot_and_stop_at_it(tmp_path):
     _write_machine(tmp_path / "machine", np.random.default_rng(12), particles=2000)
     residence = tmp_path / "machine" / "residence.txt"
     text = residence.read_text()
-    count = len(full_passes(tmp_path / "machine", 5, 10.0).exit_time)
+    count = len(full_passes(Run(tmp_path / "machine"), 5, 10.0).exit_time)
     # a run continued past its snapshot without a new one: later outlet records are not passes of the window
     later = "99999 15 23 8 outlet 8 0 0 1 1 0 0 1 1 4\n"
     residence.write_text(text + later)
-    assert len(full_passes(tmp_path / "machine", 5, 10.0).exit_time) == count
+    assert len(full_passes(Run(tmp_path / "machine"), 5, 10.0).exit_time) == count
     residence.write_text("\n".join(l for l in text.splitlines() if " inside " not in l) + "\n")
     with pytest.raises(AnalysisInputError, match="inside_records 1"):
-        full_passes(tmp_path / "machine", 5, 10.0)
+        full_passes(Run(tmp_path / "machine"), 5, 10.0)
 
 
 def test_full_record_times_cover_the_part_of_each_element_the_periodic_records_count(runs, tmp_path, monkeypatch):
@@ -313,9 +313,9 @@ def test_full_record_times_cover_the_part_of_each_element_the_periodic_records_c
         lines.insert(1, "# analysis domain: [0.00625, 0.0895833)")
         (copy / "residence.txt").write_text("\n".join(lines) + "\n")
         periodic.append(copy)
-    assert read_residence(periodic[0] / "residence.txt").analysis_domain == (0.00625, 0.0895833)
-    whole = compare_domains(runs / "full", [runs / f"periodic-{s}" for s in (1, 2, 3)], STEADY, STEADY)
-    buffered = compare_domains(runs / "full", periodic, STEADY, STEADY)
+    assert Run(periodic[0]).residence.analysis_domain == (0.00625, 0.0895833)
+    whole = compare_domains(Run(runs / "full"), [Run(runs / f"periodic-{s}") for s in (1, 2, 3)], STEADY, STEADY)
+    buffered = compare_domains(Run(runs / "full"), [Run(d) for d in periodic], STEADY, STEADY)
     np.testing.assert_allclose(buffered.samples["full"][CONVEYING], whole.samples["full"][CONVEYING] * (22.917 / 29.167),
                                rtol=2e-4)
     np.testing.assert_array_equal(buffered.samples["full"][KNEADING_BLOCK], whole.samples["full"][KNEADING_BLOCK])
@@ -323,4 +323,4 @@ def test_full_record_times_cover_the_part_of_each_element_the_periodic_records_c
     lines = (periodic[2] / "residence.txt").read_text().replace("[0.00625, 0.0895833)", "[0.005, 0.0908)")
     (periodic[2] / "residence.txt").write_text(lines)
     with pytest.raises(AnalysisInputError, match="different analysis domains"):
-        compare_domains(runs / "full", periodic, STEADY, STEADY)
+        compare_domains(Run(runs / "full"), [Run(d) for d in periodic], STEADY, STEADY)

@@ -8,6 +8,7 @@ import pytest
 from make_fixture import FEED_KG_H, write_short_run
 from tsg_analysis.model import Settings
 from tsg_analysis.report import build_report
+from tsg_analysis.run import Run
 from tsg_analysis.summary import (AXIAL_VELOCITY, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION,
                                   compare_runs, summarise, summary_table, sweep_markdown, write_sweep_csv)
 
@@ -20,7 +21,7 @@ def short_run(tmp_path_factory):
 
 
 def test_summary_of_a_steady_run(periodic_run):
-    summary = summarise(periodic_run[0])
+    summary = summarise(Run(periodic_run[0]))
     inlet = summary.get(MASS_FLOW, "sensor_1")
     assert inlet.resolved and abs(inlet.mean - FEED_KG_H) <= inlet.half_width
     # the fixture's elements are half full until 1.2 s: 19 of 100 blocks at 0.15, 81 at 0.3
@@ -31,33 +32,33 @@ def test_summary_of_a_steady_run(periodic_run):
     assert {r.quantity for r in summary.rows} == {MASS_FLOW, RESIDENCE_RECORDS, RESIDENCE_HOLDUP, SOLID_FRACTION,
                                                   AXIAL_VELOCITY}
     assert summary.parameters.rpm == 600.0
-    text = summary_table(periodic_run[0])
+    text = summary_table(Run(periodic_run[0]))
     assert "± " in text and "600 rpm" in text and "mass flow (kg/h)" in text
 
 
 def test_summary_from_a_start_time_leaves_the_start_up_out(periodic_run):
     """From 1.2 s on the fixture's elements are full: only the blocks that begin at or after the
     start count (their intervals are 0.01 s long), and the inlet sensor still gives the feed rate."""
-    summary = summarise(periodic_run[0], 1.2)
+    summary = summarise(Run(periodic_run[0]), 1.2)
     kneading = summary.get(SOLID_FRACTION, "K1")
     assert kneading.mean == pytest.approx(0.3) and kneading.samples == 80
     inlet = summary.get(MASS_FLOW, "sensor_1")
     assert inlet.chosen_start > 1.2 and abs(inlet.mean - FEED_KG_H) <= inlet.half_width
-    assert summary.complete_records < summarise(periodic_run[0]).complete_records
+    assert summary.complete_records < summarise(Run(periodic_run[0])).complete_records
 
 
 def test_the_main_jobs_short_window_says_so_with_the_interval(short_run, tmp_path):
-    summary = summarise(short_run)
+    summary = summarise(Run(short_run))
     assert summary.complete_records == 0
     assert all(not r.estimate.resolved for r in summary.rows), [r for r in summary.rows if r.estimate.resolved]
-    text = summary_table(short_run)
+    text = summary_table(Run(short_run))
     assert "0 complete records" in text and "shorter than one pass" in text
     assert "window too short: too few independent samples" in text and "indicative" in text
     report = build_report([short_run], tmp_path, settings=Settings(snapshot=False))
     markdown = (tmp_path / "report.md").read_text(encoding="utf-8")
     assert report.runs[0].transient and report.runs[0].profile is not None
     assert "### Element profiles" in markdown and "window too short (" in markdown
-    assert "shorter than a pass" in markdown  # no RTD, and why
+    assert "shorter than one pass" in markdown  # no RTD, and why
     assert (tmp_path / "periodic-demo_massflow.png").stat().st_size > 10_000
 
 
@@ -74,7 +75,8 @@ def test_sweep_table_replicas_and_significance(tmp_path, periodic_run):
                for line in lines]
     (faster / "massflow.txt").write_text("\n".join(shifted) + "\n")  # +1 kg/h at every sensor
 
-    rows = compare_runs([periodic_run[0]], {"replica": [replica], "faster": [faster], "both": [replica, faster]})
+    rows = compare_runs([Run(periodic_run[0])], {"replica": [Run(replica)], "faster": [Run(faster)],
+                                             "both": [Run(replica), Run(faster)]})
     by_key = {(r.variant, r.quantity, r.scope): r for r in rows}
     same = by_key[("replica", MASS_FLOW, "sensor_1")].difference
     assert not same.significant and same.text("kg/h").startswith("not resolved")
@@ -129,13 +131,11 @@ def test_compare_command_line_window(tmp_path, periodic_run, unsteady_run):
         with open(csv_path, encoding="utf-8") as stream:
             return {(row["quantity"], row["scope"]): float(row["variant_mean"]) for row in csv.DictReader(stream)}
 
-    from tsg_analysis.validation import block_times
-
-    begins, _ = block_times(unsteady_run[0])
+    begins, _ = Run(unsteady_run[0]).block_times
     start = float(begins[len(begins) // 2])
     windowed, whole = variant_means("--start", f"{start}"), variant_means()
     expected = {(r.quantity, r.scope): r.value.mean
-                for r in compare_runs([periodic_run[0]], {"u": [unsteady_run[0]]}, start)}
+                for r in compare_runs([Run(periodic_run[0])], {"u": [Run(unsteady_run[0])]}, start)}
     assert windowed.keys() == expected.keys()
     for key, mean in expected.items():
         assert windowed[key] == pytest.approx(mean, rel=1e-9, abs=1e-12)
@@ -151,7 +151,27 @@ def test_contact_health_reads_the_guards_columns(tmp_path):
     log = ("LIGGGHTS\n" + header + "0 0 10 0 0 0.1 1.0 0.01 0.02 0.03 0 0 0\n2000 0.001 10 0 0 0.1 9.5 0.2 0.1 0.05 3 0 1\n"
            "Loop time of 1 on 1 procs\n" + header + "4000 0.002 10 0 0 0.1 2.0 0.05 0.3 0.05 5 0 2\nLoop time of 1\n")
     (tmp_path / "log.lammps").write_text(log)
-    assert contact_health(tmp_path) == ("contacts over the run: 5 squeeze releases (particles faster than "
+    assert contact_health(Run(tmp_path)) == ("contacts over the run: 5 squeeze releases (particles faster than "
                                         "guard_fast_speed, counted), largest wall overlap/R 0.3, largest speed 9.5 m/s")
     (tmp_path / "log.lammps").write_text("LIGGGHTS\nStep Time Atoms\n0 0 10\nLoop time of 1\n")
-    assert contact_health(tmp_path) is None
+    assert contact_health(Run(tmp_path)) is None
+
+
+def test_report_summary_and_accuracy_give_the_same_number_for_one_window(periodic_run, tmp_path):
+    """One run, one window (the report's detected steady start): the report, the summary and the
+    accuracy tool's key quantities are one number each, to the last digit (they all ask tsg_analysis.Run)."""
+    report = build_report([periodic_run[0]], tmp_path, settings=Settings(snapshot=False))
+    analysed = report.runs[0]
+    assert not analysed.transient and analysed.window is not None
+    start = analysed.window[0]
+    from_report = analysed.estimates()
+    summary = summarise(Run(periodic_run[0]), start)
+    key = Run(periodic_run[0]).key_estimates(start=start)
+    keys = [(MASS_FLOW, "domain flux Σ m v_x / L"), (SOLID_FRACTION, "K1"), (AXIAL_VELOCITY, "K1"),
+            (RESIDENCE_RECORDS, "total")]
+    for quantity, scope in keys:
+        a, b, c = from_report[(quantity, scope)], summary.get(quantity, scope), key[(quantity, scope)]
+        assert a.mean == b.mean == c.mean and a.half_width == b.half_width == c.half_width, (quantity, scope)
+        assert a.samples == b.samples == c.samples > 0
+    for (quantity, scope), e in from_report.items():   # every quantity the two share
+        assert summary.get(quantity, scope) == e, (quantity, scope)

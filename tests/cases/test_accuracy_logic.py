@@ -15,7 +15,6 @@ from tsg_analysis.accuracy import (
     PointError,
     RunCost,
     Tolerance,
-    aligned_labels,
     cheapest,
     family_factor,
     point_errors,
@@ -25,6 +24,7 @@ from tsg_analysis.accuracy import (
     sampling_ends,
     verdict,
 )
+from tsg_analysis.run import Run
 from tsg_analysis.run_files import Zones
 from tsg_analysis.uncertainty import Difference, Estimate
 
@@ -84,15 +84,29 @@ def test_unresolved_inputs_are_too_short_and_have_no_bound():
     assert error.text() == "window too short: too few independent samples (or replicas)"
 
 
-def test_sampling_point_error_is_its_own_half_width():
+def test_sampling_point_error_is_its_bias_plus_its_own_half_width():
     truncated = estimate(10.3, 0.15, half_width=0.3)
     error = PointError("solid fraction", "K1", REFERENCE, truncated, None)
-    assert error.bound == pytest.approx(0.3) and error.relative_bound == pytest.approx(0.03)
-    assert verdict(error, Tolerance.parse("5%")) == MEETS and verdict(error, Tolerance.parse("2%")) == FAILS
-    assert error.lower == pytest.approx(0.3)   # the statistical error is known, not bounded
-    assert error.text() == "statistical ± 0.3 (2.9%)"
+    assert error.offset == pytest.approx(0.3)                          # the window's bias
+    assert error.bound == pytest.approx(0.6) and error.relative_bound == pytest.approx(0.06)
+    assert error.lower == pytest.approx(0.0)                            # the bias is within its half-width
+    assert verdict(error, Tolerance.parse("10%")) == MEETS and verdict(error, Tolerance.parse("5%")) == UNDECIDED
+    assert error.text() == "window bias +0.3 (+3.0%), statistical ± 0.3"
     short = PointError("solid fraction", "K1", REFERENCE, estimate(10.3, 0.15, independent=5.0, half_width=0.3), None)
     assert verdict(short, Tolerance.parse("50%")) == TOO_SHORT and short.text().startswith("window too short")
+
+
+@pytest.mark.parametrize("tolerance, expected", [("5%", FAILS), ("15%", UNDECIDED), ("20%", MEETS)])
+def test_biased_short_window_cannot_meet_a_tolerance_its_mean_contradicts(tolerance, expected):
+    # docs/accuracy/demo-replicas: sampling 0.25, domain flux 5.483 ± 0.075 kg/h (3 replicas) against the
+    # reference's whole record 4.76 ± 0.15 kg/h: +15 %. Its half-width alone (1.4 %) would "meet" 5 %.
+    reference = Estimate(4.76, 0.035, 300, 3.0, 0.15, replicas=3, method="replica means")
+    point = Estimate(5.483, 0.0175, 75, 3.0, 0.075, replicas=3, method="replica means")
+    (error,) = point_errors({("mass flow", "domain flux"): reference}, {("mass flow", "domain flux"): point}, sampling=True)
+    assert error.offset == pytest.approx(0.723)
+    assert error.lower == pytest.approx(0.648) and error.bound == pytest.approx(0.798)
+    assert verdict(error, Tolerance.parse(tolerance)) == expected   # allowed 0.238, 0.714, 0.952 kg/h
+    assert quantity_verdict([error], "mass flow", Tolerance.parse(tolerance)) == expected
 
 
 def test_quantity_verdict_needs_every_scope():
@@ -143,7 +157,7 @@ Loop time of 30 on 2 procs for 3000 steps with 500 atoms, finish time x
 
 def test_cost_from_the_log_by_hand(tmp_path):
     (tmp_path / "log.lammps").write_text(LOG)
-    cost = run_cost(tmp_path)
+    cost = run_cost(Run(tmp_path))
     assert cost.wall_seconds == 40 and cost.ranks == 2 and cost.core_seconds == 80
     assert cost.simulated_seconds == pytest.approx(0.01)
     assert cost.core_seconds_per_simulated_second == pytest.approx(8000)
@@ -156,10 +170,10 @@ def test_cost_from_the_log_by_hand(tmp_path):
 
 def test_cost_of_a_run_without_a_log_or_unfinished_is_an_error(tmp_path):
     with pytest.raises(ValueError, match="no log"):
-        run_cost(tmp_path)
+        run_cost(Run(tmp_path))
     (tmp_path / "log.lammps").write_text(LOG.rsplit("Loop", 1)[0])   # cut in its last chunk
     with pytest.raises(ValueError, match="did not finish"):
-        run_cost(tmp_path)
+        run_cost(Run(tmp_path))
 
 
 def zones(kinds: list[str]) -> Zones:
@@ -170,10 +184,10 @@ def zones(kinds: list[str]) -> Zones:
 def test_other_domain_zones_align_on_the_first_kneading_element():
     periodic = zones(["conveying"] + ["kneading"] * 6 + ["conveying"])
     full = zones(["conveying"] * 10 + ["kneading"] * 6 + ["conveying"] + ["kneading"] * 6 + ["conveying", "chopping"])
-    labels = aligned_labels(full, periodic)
+    labels = full.aligned_labels(periodic)
     assert labels[9] == "C1" and labels[10:16] == ["K1", "K2", "K3", "K4", "K5", "K6"] and labels[16] == "C2"
     assert labels[:9] == [None] * 9 and labels[17:] == [None] * 8
-    assert aligned_labels(periodic, periodic) == periodic.labels
+    assert periodic.aligned_labels(periodic) == periodic.labels
 
 
 def test_several_scopes_need_simultaneous_intervals():
@@ -227,7 +241,7 @@ def test_cost_of_replicas_adds_their_loop_times(tmp_path):
     for k, factor in enumerate((1, 2, 3)):
         (tmp_path / f"r{k}").mkdir()
         (tmp_path / f"r{k}" / "log.lammps").write_text(LOG.replace("Loop time of 10", f"Loop time of {10 * factor}"))
-    cost = RunCost.of_replicas([run_cost(tmp_path / f"r{k}") for k in range(3)])
+    cost = RunCost.of_replicas([run_cost(Run(tmp_path / f"r{k}")) for k in range(3)])
     assert cost.runs == 3 and cost.wall_seconds == pytest.approx(60 + 3 * 30)   # 10+20+30 and 3 x 30
     assert cost.core_seconds == pytest.approx(2 * 150)
     assert cost.core_seconds_per_simulated_second == pytest.approx(2 * 150 / (3 * 0.01))   # per run
@@ -257,7 +271,7 @@ def test_replicas_run_each_point_with_seeds_and_combine_their_windows(tmp_path):
     assert sampling.run_dirs == reference.run_dirs and sampling.argvs == []
     for number, (point, run_dir) in enumerate((p, d) for p in (reference, dt_point) for d in p.run_dirs):
         write_run(run_dir, dumps=None, meshes=False, seed=200 + number)
-        steps, end = 1000 * np.arange(0, 41), sampling_ends(run_dir, [1.0])[0]   # the log spans the record
+        steps, end = 1000 * np.arange(0, 41), sampling_ends(Run(run_dir), [1.0])[0]   # the log spans the record
         (run_dir / "log.lammps").write_text(
             "    Step           Time    Atoms\n" + "".join(f"{s} {s * end / 40000:g} 500\n" for s in steps)
             + "Loop time of 20 on 1 procs for 40000 steps with 500 atoms, finish time x\n")

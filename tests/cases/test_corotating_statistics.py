@@ -17,8 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tsg_analysis.profiles import element_estimates
-from tsg_analysis.run_files import read_element_statistics, read_zones
+from tsg_analysis.run import Run
 
 ROOT = Path(__file__).resolve().parents[2]
 SEEDS = (1009, 2003, 3001)
@@ -36,9 +35,8 @@ def run_case(out: Path, drive: str, seed: int, rpm: float = 600) -> tuple[np.nda
         command += ["-v", name, str(value)]
     proc = subprocess.run(command, capture_output=True, text=True, timeout=1200)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    estimates, _ = element_estimates(read_element_statistics(out / "elements.txt"), read_zones(out / "zones.txt"),
-                                     first_step=None)
-    solid, axial = (np.array([e.mean for e in estimates[name]]) for name in ("solid_fraction", "mean_axial_velocity"))
+    by_zone = Run(out).element_averages().by_zone
+    solid, axial = (np.array([e.mean for e in by_zone[name]]) for name in ("solid_fraction", "mean_axial_velocity"))
     return solid, axial
 
 

@@ -11,7 +11,8 @@ REPORT = ["{python}", "-m", "tsg_analysis", "report"]
 RUN = "{tmp}/run"
 
 ZONES = "# index type x_start_m x_end_m free_volume_m3\n1 conveying 0.0 0.01 4.0e-6\n2 kneading 0.01 0.02 4.0e-6\n"
-MASSFLOW = ("# tsg-dem mass flow v1\n# columns: step time sensor_1 sensor_2\n"
+MASSFLOW_HEADER = "# tsg-dem mass flow v1\n# columns: step time sensor_1 sensor_2\n"
+MASSFLOW = (MASSFLOW_HEADER
             + "".join(f"{k * 1000} {k * 0.005:.3f} 14.{k % 7} 13.{k % 5}\n" for k in range(1, 41)))
 PARAMS = {"case": "periodic", "scale": "demo", "seed": 1, "np": 1, "variables": {}, "rpm": 600.0, "rho_p": 1263.0,
           "d_mean": 0.001, "mesh_dir": "meshes", "zones_file": "zones.txt", "git_commit": "test"}
@@ -112,6 +113,13 @@ CASES: list[BadInput] = [
              why="without the run's own rpm the analysis would have to assume one",
              command=report(RUN, "--out", "{tmp}/out"),
              files={**run_dir(None), "run/log.lammps": "LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0)\n"},
+             accepted=True, env=ENV),
+    BadInput("analysis.report.massflow-header-only", ("massflow.txt", "only its header, no mass-flow rows",
+                                                      "not produced: steady state"),
+             why="a run stopped before its first mass-flow output: the report says which file lacks what, "
+                 "and writes the parts that do not need it",
+             command=report(RUN, "--out", "{tmp}/out", "--no-snapshot"),
+             files={**run_dir(), "run/massflow.txt": MASSFLOW_HEADER},
              accepted=True, env=ENV),
     BadInput("analysis.report.output-file-not-writable", ("{tmp}/out/report.md", "Is a directory"),
              why="a report file that cannot be written must say which, not end in a traceback",

@@ -1,7 +1,7 @@
 """Time series of chosen particles from LAMMPS text dumps (`dump custom` with id type x y z vx vy vz
 fx fy fz omegax omegay omegaz radius), for tracing a guard stop (docs/stability-demo.md).
 
-    .venv/bin/python scripts/pinch-trace.py 'DUMP_GLOB' ID [ID ...] --dt SECONDS --machine RUN_DIR/machine.in \
+    .venv/bin/python studies/stability/pinch-trace.py 'DUMP_GLOB' ID [ID ...] --dt SECONDS --machine RUN_DIR/machine.in \
         --length L > trace.csv
 
 One CSV row per dump and particle: step, time from the first dump (s), speed (m/s), spin (rad/s),

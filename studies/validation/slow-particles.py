@@ -1,6 +1,6 @@
 """Where the particles that hardly move along the axis sit, from two particle dumps of a periodic run.
 
-    .venv/bin/python scripts/slow-particles.py RUN_DIR [--first STEP] [--last STEP] [--slow-mm 5]
+    .venv/bin/python studies/validation/slow-particles.py RUN_DIR [--first STEP] [--last STEP] [--slow-mm 5]
 
 Reads RUN_DIR/dumps/particles_<step>.vtk at the two steps (default: the last two dumps) and the
 machine (RUN_DIR/machine.in) and zones (RUN_DIR/zones.txt). A particle is slow when its axial
@@ -23,9 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
-from tsg_analysis.dumps import find_dump_files, read_vtk_dump, step_from_name  # noqa: E402
-from tsg_analysis.run_files import read_zones  # noqa: E402
+from tsg_analysis.dumps import find_dump_files, read_vtk_dump, step_from_name
+from tsg_analysis.run import Run
 
 
 def machine_value(text: str, name: str) -> float:
@@ -51,7 +50,7 @@ def main(argv: list[str] | None = None) -> int:
     last = args.last if args.last is not None else steps[-1]
     a, b = read_vtk_dump(by_step[first]), read_vtk_dump(by_step[last])
     machine = (args.run_dir / "machine.in").read_text()
-    zones = read_zones(args.run_dir / "zones.txt")
+    zones = Run(args.run_dir).zones
     length = float(zones.x_end[-1] - zones.x_start[0])
     outer = machine_value(machine, "screw_outer_radius")
     axes = [(machine_value(machine, f"axis{k}_y"), machine_value(machine, "axis_z")) for k in (1, 2)]

@@ -1,8 +1,8 @@
 """The domain flux Σ m v_x / L of periodic runs in time bins, kg/h: a quick look at slow transients.
 
-    .venv/bin/python scripts/flux-bins.py WIDTH_S RUN_DIR [RUN_DIR ...] [--replicas]
+    .venv/bin/python studies/validation/flux-bins.py WIDTH_S RUN_DIR [RUN_DIR ...] [--replicas]
 
-Each element block of RUN_DIR/elements.txt gives one flux value (tsg_analysis.validation.domain_flux);
+Each element block of RUN_DIR/elements.txt gives one flux value (tsg_analysis.profiles.domain_flux);
 a bin's value is the mean over the blocks that end in (t, t + WIDTH_S]. Bins start at t = 0, so the
 first one holds the blocks after the run's start-up only. With --replicas the runs are replicas (fill
 seeds) of one setting, and a last line gives each bin's replica mean ± 95 % (t_{R-1} s/sqrt(R), one
@@ -11,17 +11,13 @@ independent value per run: tsg_analysis.uncertainty.replica_means). Used for doc
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
-from tsg_analysis.accuracy import block_times  # noqa: E402
-from tsg_analysis.run_files import read_element_statistics, read_zones  # noqa: E402
-from tsg_analysis.uncertainty import Estimate, replica_means  # noqa: E402
-from tsg_analysis.validation import domain_flux  # noqa: E402
-
-SECONDS_PER_HOUR = 3600.0
+from tsg_analysis.massflow import SECONDS_PER_HOUR
+from tsg_analysis.profiles import domain_flux
+from tsg_analysis.run import Run
+from tsg_analysis.uncertainty import Estimate, replica_means
 
 
 def main(argv: list[str]) -> int:
@@ -33,16 +29,13 @@ def main(argv: list[str]) -> int:
     if not width > 0:
         raise SystemExit(f"WIDTH_S {argv[0]} is not allowed: a bin width in s, > 0")
     per_run: list[dict[float, float]] = []
-    for run_dir in map(Path, argv[1:]):
-        stats = read_element_statistics(run_dir / "elements.txt")
-        _, ends = block_times(run_dir)
-        blocks = min(len(ends), stats.column("mass").shape[0])   # a run still going: its complete blocks
-        ends = ends[:blocks]
-        flux = domain_flux(stats, read_zones(run_dir / "zones.txt"), np.ones(len(ends), bool))[:blocks] * SECONDS_PER_HOUR
+    for run in map(Run, argv[1:]):
+        _, ends = run.block_times   # a run still going: its complete blocks
+        flux = domain_flux(run.elements, run.zones, np.ones(len(ends), bool)) * SECONDS_PER_HOUR
         starts = np.arange(0.0, ends[-1], width)
         values = {float(t): flux[(ends > t) & (ends <= t + width)] for t in starts}
         per_run.append({t: float(v.mean()) for t, v in values.items() if len(v)})
-        print(run_dir, " ".join(f"{t:.2f}-{t + width:.2f}: {v:.2f}" for t, v in per_run[-1].items()))
+        print(run.path, " ".join(f"{t:.2f}-{t + width:.2f}: {v:.2f}" for t, v in per_run[-1].items()))
     if replicas:
         shared = sorted(set.intersection(*(set(bins) for bins in per_run)))
         cells = []

@@ -1,7 +1,7 @@
 """A full-case run's progress, per window of simulated time: the particles inside at the window's end
 and the two mass-flow sensors' means (MFS_1 after the feed, MFS_2 before the outlet), kg/h.
 
-    .venv/bin/python scripts/full-run-progress.py RUN_DIR [WINDOW_S]     # default 1 s
+    .venv/bin/python studies/validation/full-run-progress.py RUN_DIR [WINDOW_S]     # default 1 s
 
 The tables of docs/validation.md, "Periodic against full". Particles from the log's thermo rows
 (log.upto-*.lammps and log.lammps of a segmented run); flows from massflow.txt
@@ -14,10 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
-from tsg_analysis.liggghts_log import parse_thermo  # noqa: E402
-from tsg_analysis.massflow import step_clock  # noqa: E402
-from tsg_analysis.run_files import AnalysisInputError, read_massflow  # noqa: E402
+from tsg_analysis.liggghts_log import parse_thermo
+from tsg_analysis.run import Run
+from tsg_analysis.run_files import AnalysisInputError
 
 
 def particles_over_steps(run: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -42,13 +41,9 @@ def main(argv: list[str]) -> int:
         print(f"WINDOW_S = {window} is not allowed: a window in s, > 0", file=sys.stderr)
         return 2
     try:
-        record = read_massflow(run / "massflow.txt")
+        record, clock = Run(run).massflow, Run(run).clock
     except AnalysisInputError as problem:
         print(f"full-run-progress: {problem}", file=sys.stderr)
-        return 2
-    clock = step_clock(record)
-    if clock is None:
-        print(f"{run / 'massflow.txt'}: fewer than two rows", file=sys.stderr)
         return 2
     steps, atoms = particles_over_steps(run)
     time = clock.time(steps)

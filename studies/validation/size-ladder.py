@@ -1,6 +1,6 @@
 """The particle-size ladder at steady state: each size against the next finer one (issue 18, item 1).
 
-    .venv/bin/python scripts/size-ladder.py START|auto SIZE=RUN,RUN,... [SIZE=RUN,...] [--out FILE.md]
+    .venv/bin/python studies/validation/size-ladder.py START|auto SIZE=RUN,RUN,... [SIZE=RUN,...] [--out FILE.md]
 
 SIZE is a label (e.g. 0.6mm), listed from the finest to the coarsest; the runs of a size are its
 replicas (fill seeds). Every run is analysed from START s on (auto: the latest detected start of
@@ -21,6 +21,7 @@ import sys
 from pathlib import Path
 
 from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+from tsg_analysis.run import Run
 from tsg_analysis.summary import combined_rows, compare_runs
 from tsg_analysis.uncertainty import format_interval
 from tsg_analysis.validation import steady_start
@@ -28,7 +29,7 @@ from tsg_analysis.validation import steady_start
 QUANTITIES = (SOLID_FRACTION, AXIAL_VELOCITY)
 
 
-def parse_size(text: str) -> tuple[str, list[Path]]:
+def parse_size(text: str) -> tuple[str, list[Run]]:
     label, _, runs = text.partition("=")
     paths = [Path(p) for p in runs.split(",") if p]
     if not label or not paths:
@@ -36,7 +37,7 @@ def parse_size(text: str) -> tuple[str, list[Path]]:
     for path in paths:
         if not path.is_dir():
             raise SystemExit(f"{path}: no such run directory")
-    return label, paths
+    return label, [Run(path) for path in paths]
 
 
 def element_scopes(rows: dict) -> list[str]:
@@ -49,7 +50,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("sizes", nargs="+", type=parse_size)
     parser.add_argument("--out", type=Path)
     args = parser.parse_args(argv)
-    sizes: list[tuple[str, list[Path]]] = args.sizes
+    sizes: list[tuple[str, list[Run]]] = args.sizes
     if args.start == "auto":
         starts = [steady_start(run) for _, runs in sizes for run in runs]
         if any(start is None for start in starts):

@@ -1,6 +1,6 @@
 """How the Fig. 8 comparison (tsg_analysis domains) depends on where the periodic passes start counting.
 
-    .venv/bin/python scripts/rtd-horizon.py FULL_RUN PERIODIC_RUN FULL_START PERIODIC_START H [H ...]
+    .venv/bin/python studies/validation/rtd-horizon.py FULL_RUN PERIODIC_RUN FULL_START PERIODIC_START H [H ...]
 
 The full run's passes of the section are those `domains` uses (outlet records and the inside
 snapshot, from FULL_START + RECORD_HORIZON balance times of the section on). The periodic run's count
@@ -11,18 +11,16 @@ KS test's p-value. Used for docs/validation.md.
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
-from tsg_analysis.domains import RECORD_HORIZON, balance_passage, counted_lengths, full_passes, passage_times, section_indices  # noqa: E402
-from tsg_analysis.rtd import compare_rtds  # noqa: E402
-from tsg_analysis.run_files import read_zones  # noqa: E402
+from tsg_analysis.domains import RECORD_HORIZON, balance_passage, counted_lengths, full_passes, passage_times, section_indices
+from tsg_analysis.rtd import compare_rtds
+from tsg_analysis.run import Run
 
 
-def main(full_run: Path, periodic_run: Path, full_start: float, periodic_start: float, horizons: list[float]) -> None:
-    periodic, full = read_zones(periodic_run / "zones.txt"), read_zones(full_run / "zones.txt")
+def main(full_run: Run, periodic_run: Run, full_start: float, periodic_start: float, horizons: list[float]) -> None:
+    periodic, full = periodic_run.zones, full_run.zones
     index = section_indices(full, periodic)
     full_length = (full.x_end - full.x_start)[index]
     periodic_length = periodic.x_end - periodic.x_start
@@ -55,4 +53,4 @@ def main(full_run: Path, periodic_run: Path, full_start: float, periodic_start: 
 if __name__ == "__main__":
     if len(sys.argv) < 6:
         sys.exit(__doc__)
-    main(Path(sys.argv[1]), Path(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4]), [float(h) for h in sys.argv[5:]])
+    main(Run(sys.argv[1]), Run(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4]), [float(h) for h in sys.argv[5:]])
