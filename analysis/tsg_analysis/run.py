@@ -43,12 +43,15 @@ from .run_files import (
     ElementStatistics,
     MassFlowRecord,
     ResidenceRecords,
+    SqueezeRecords,
     Zones,
     read_element_statistics,
     read_massflow,
     read_residence,
+    read_squeezes,
     read_zones,
 )
+from .squeezes import SqueezeLedger, squeeze_ledger
 from .uncertainty import Estimate
 
 ELEMENT_QUANTITIES = ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity"), (SPEED, "mean_speed"))
@@ -97,6 +100,10 @@ class Run:
     @cached_property
     def residence(self) -> ResidenceRecords:
         return read_residence(self.path / "residence.txt")
+
+    @cached_property
+    def squeezes(self) -> SqueezeRecords:
+        return read_squeezes(self.path / "squeezes.txt")
 
     @cached_property
     def parameters(self) -> RunParameters:
@@ -200,6 +207,10 @@ class Run:
         for quantity, name in ELEMENT_QUANTITIES:
             found.update({(quantity, label): e for label, e in zip(names, averages.by_zone[name]) if label is not None})
         return found
+
+    def squeeze_ledger(self, start: float | None = None, end: float | None = None) -> SqueezeLedger:
+        """The squeeze events that end in (start, end] (the records' rule), with the zones for where."""
+        return squeeze_ledger(self.squeezes, self.zones, start, end)
 
     def key_estimates(self, start: float | None = None, end: float | None = None,
                       reference_zones: Zones | None = None) -> dict[Key, Estimate]:

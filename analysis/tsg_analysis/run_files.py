@@ -1,7 +1,7 @@
 """Readers for the measurement files our LIGGGHTS cases write into a run directory.
 
 Formats (fixed by the team, see docs/analysis.md): zones.txt, residence.txt, elements.txt
-(stock `fix ave/time ... mode vector`), massflow.txt. Every reader raises AnalysisInputError with
+(stock `fix ave/time ... mode vector`), massflow.txt, squeezes.txt (fix squeeze/ledger). Every reader raises AnalysisInputError with
 the file and line for input it cannot use. A last line without its newline is the normal state of
 a file whose writer was killed or is still running: it is dropped and said so in `issues`.
 """
@@ -22,6 +22,10 @@ RESIDENCE_MAGIC = "# tsg-dem residence records v1"
 RESIDENCE_FIXED_COLUMNS = ("id", "entry_time", "exit_time", "residence_time", "exit_reason",
                            "time_conveying", "time_kneading", "time_chopping")
 MASSFLOW_MAGIC = "# tsg-dem mass flow v1"
+SQUEEZE_MAGIC = "# tsg-dem squeeze records v1"
+SQUEEZE_COLUMNS = ("start_time", "end_time", "id", "x", "y", "z", "radius", "peak_wall_ratio", "peak_pair_ratio",
+                   "walls", "kind", "with_particles", "start_speed", "release_speed", "event_number")
+SQUEEZE_KINDS = ("two_walls", "wall_and_particles", "wall_alone", "particles")
 ELEMENT_COLUMNS = ("solid_fraction", "mean_speed", "mean_axial_velocity", "count", "mass")
 
 
@@ -92,6 +96,21 @@ class ResidenceRecords:
 
     def reason_counts(self) -> dict[str, int]:
         return {reason: int(np.count_nonzero(self.exit_reason == reason)) for reason in EXIT_REASONS}
+
+
+@dataclass(frozen=True)
+class SqueezeRecords:
+    """One record per squeeze event (squeezes.txt, fix squeeze/ledger), sorted by end time."""
+
+    columns: dict[str, np.ndarray]  # SQUEEZE_COLUMNS -> values
+    wall_names: tuple[str, ...]  # bit k of `walls`
+    issues: tuple[str, ...] = ()
+
+    def __len__(self) -> int:
+        return len(self.columns["end_time"])
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.columns[name]
 
 
 @dataclass(frozen=True)
@@ -262,6 +281,20 @@ def read_residence(path: Path | str) -> ResidenceRecords:
         time_by_zone=table[:, len(RESIDENCE_FIXED_COLUMNS):],
         issues=tuple(issues),
     )
+
+
+def read_squeezes(path: Path | str) -> SqueezeRecords:
+    path = Path(path)
+    text, issues, header, columns = _records(path, SQUEEZE_MAGIC)
+    if tuple(columns) != SQUEEZE_COLUMNS:
+        raise AnalysisInputError(f"{path}: columns must be {' '.join(SQUEEZE_COLUMNS)}, got {' '.join(columns)}")
+    table = _load_table(path, text, len(columns))
+    kinds = table[:, SQUEEZE_COLUMNS.index("kind")]
+    if np.any((kinds != np.round(kinds)) | (kinds < 0) | (kinds >= len(SQUEEZE_KINDS))):
+        raise AnalysisInputError(f"{path}: kind must be 0 .. {len(SQUEEZE_KINDS) - 1} ({', '.join(SQUEEZE_KINDS)})")
+    walls_line = next((line for line in header if line.startswith("# walls (bit k of the mask):")), "")
+    names = tuple(word.split("=", 1)[1] for word in walls_line.split(":", 1)[-1].split() if "=" in word)
+    return SqueezeRecords({name: table[:, k] for k, name in enumerate(SQUEEZE_COLUMNS)}, names, tuple(issues))
 
 
 def read_element_statistics(path: Path | str) -> ElementStatistics:

@@ -103,6 +103,17 @@ def contact_health(run: Run) -> str | None:
     return "contacts over the run: " + ", ".join(parts)
 
 
+def squeeze_lines(run: Run) -> list[str]:
+    """The run's squeeze ledger (squeezes.txt), or why there is none; nothing for a run without the
+    ledger."""
+    if not (run.path / "squeezes.txt").is_file():
+        return []
+    try:
+        return run.squeeze_ledger().text().splitlines()
+    except AnalysisInputError as why:
+        return [f"squeezes: none ({why})"]
+
+
 def summary_table(run: Run) -> str:
     """The runner's summary: one line per quantity, mean ± 95 % interval or why there is none."""
     summary = summarise(run)
@@ -113,6 +124,7 @@ def summary_table(run: Run) -> str:
     health = contact_health(run)
     if health is not None:
         lines.append(health)
+    lines += squeeze_lines(run)
     lines.append("mean ± 95 % confidence interval over the sampling window (independent samples; 'drifting': "
                  "the window's halves differ; stationary from: detected start vs window start)")
     for quantity, unit in UNITS.items():

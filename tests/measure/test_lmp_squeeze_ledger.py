@@ -9,7 +9,6 @@ import math
 
 import numpy as np
 import pytest
-
 from tsg_harness import run_lmp
 
 RADIUS = 0.001      # m
