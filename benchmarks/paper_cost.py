@@ -63,7 +63,7 @@ include ${case_dir}/include/materials.in
 include ${case_dir}/include/models.in
 include ${case_dir}/include/geometry.in
 fix integrate all nve/sphere
-fix gravity all gravity 9.81 vector 0 0 -1
+fix gravity all gravity ${gravity} vector 0 0 -1
 include ${case_dir}/include/timestep.in
 variable analysis_lo equal ${x_lo}+${buffer}
 variable analysis_hi equal ${x_lo}+${domain_length}-${buffer}
@@ -188,36 +188,37 @@ def parse(label: str, np_ranks: int, log: str, dt: float) -> Result:
 
 
 def bench(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, object], steps: int, thermo_every: int,
-          workdir: Path, wrapper: list[str] | None = None) -> tuple[Result, str]:
+          workdir: Path, wrapper: list[str] | None = None, extra: dict[str, str] | None = None) -> tuple[Result, str]:
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "in.bench").write_text(BENCH_INPUT)
     variables = {"case_dir": CASES, "out_dir": workdir, "restart_file": restart, "bench_steps": steps,
                  "thermo_every": thermo_every, "stats_every": thermo_every, "skin": 0.2 * float(case["d_mean"]),
-                 "procs_x": "*", "x_lo": 0.0, "domain_length": 0.0958333333333, "buffer": 0.00625, "rpm": 600,
+                 "procs_x": "*", "gravity": 9.81, "x_lo": 0.0, "domain_length": 0.0958333333333, "buffer": 0.00625, "rpm": 600,
                  "screw_drive": "corotating", "screw_direction": 1, "cohesion": 0, "dump_every": 0, "max_escaped": 0,
                  **guards(case), **SCALE_VARIABLES[str(case["scale"])],
-                 **{k: case[k] for k in ("mesh_dir", "zones_file", "d_min_value")}}
+                 **{k: case[k] for k in ("mesh_dir", "zones_file", "d_min_value")}, **(extra or {})}
     command = (wrapper or []) + mpi(lmp, np_ranks) + ["-in", "in.bench", "-log", "log.lammps", "-echo", "none"]
     log = lmp_run(command, workdir, variables)
     return parse(label, np_ranks, log, float(case["dt"])), log
 
 
-def callgrind_instructions(label: str, lmp: str, restart: Path, case: dict[str, object], steps: int, workdir: Path) -> int:
+def callgrind_instructions(label: str, lmp: str, restart: Path, case: dict[str, object], steps: int, workdir: Path,
+                           extra: dict[str, str]) -> int:
     out = workdir / "callgrind.out"
     wrapper = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", "--collect-atstart=no",
                "--toggle-collect=LAMMPS_NS::Verlet::run(int)"]
-    bench(label, lmp, 1, restart, case, steps, 10 * steps, workdir, wrapper)
+    bench(label, lmp, 1, restart, case, steps, 10 * steps, workdir, wrapper, extra)
     summary = re.search(r"^summary:\s+(\d+)", out.read_text(errors="replace"), re.M)
     return int(summary.group(1))
 
 
 def perf_profile(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, object], steps: int,
-                 thermo_every: int, workdir: Path) -> str:
+                 thermo_every: int, workdir: Path, extra: dict[str, str]) -> str:
     """Shares of CPU samples by function (perf record -e cpu-clock, all ranks). The setup (reading
     the meshes and the restart) is sampled too, under its own function names."""
     out = workdir / "perf.data"
     wrapper = ["perf", "record", "-q", "-F", "499", "-e", "cpu-clock", "-o", str(out), "--"]
-    bench(label, lmp, np_ranks, restart, case, steps, thermo_every, workdir, wrapper)
+    bench(label, lmp, np_ranks, restart, case, steps, thermo_every, workdir, wrapper, extra)
     report = subprocess.run(["perf", "report", "--stdio", "-i", str(out), "--sort", "symbol", "--percent-limit", "0.7"],
                             capture_output=True, text=True).stdout
     return "\n".join(line for line in report.splitlines() if line.strip() and not line.startswith("#"))
@@ -254,6 +255,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--callgrind-steps", type=int, default=0, help="also count instructions of N steps (serial)")
     parser.add_argument("--profile-steps", type=int, default=0,
                         help="also profile N steps with perf record (each variant, each --np)")
+    parser.add_argument("--baseline-vars", nargs="*", default=["squeeze_ledger=0"], metavar="NAME=VALUE",
+                        help="case variables for the baseline only (default: squeeze_ledger=0, which main of "
+                             "b9673fc predates)")
+    parser.add_argument("--this-vars", nargs="*", default=[], metavar="NAME=VALUE",
+                        help="case variables for this build only, e.g. yield_pressure_pg=2.5e6 reset_contacts=1 "
+                             "(the squeeze treatment from a restart written with the paper's model)")
     parser.add_argument("--work", type=Path, default=None, help="keeps the prepared fill and the restart between calls")
     parser.add_argument("--json", type=Path, default=None, help="also write every run and the summary here")
     parser.add_argument("--collect", action="store_true",
@@ -271,6 +278,8 @@ def main(argv: list[str] | None = None) -> int:
     restart = args.restart or make_restart(work, args.lmp, case, startup_steps, args.thermo_every)
     print(f"restart: {restart} ({restart.stat().st_size / 1e6:.0f} MB), time step {float(case['dt']):.4g} s", flush=True)
     variants = {"baseline": args.baseline_lmp, "this": args.lmp}
+    extra = {"baseline": assignments(parser, args.baseline_vars), "this": assignments(parser, args.this_vars)}
+    print(f"case variables of each variant: {extra}")
     results: dict[tuple[str, int], list[Result]] = {}
     print("wall-clock numbers below were measured on this machine under its current load (see load average)")
     print(f"{'run':<14}{'ranks':>6}{'atoms':>8}{'ms/step':>9}{'core-ms/step':>13}{'Mpart-steps/core-s':>20}"
@@ -285,7 +294,8 @@ def main(argv: list[str] | None = None) -> int:
                         continue
                     r = parse(label, np_ranks, log, float(case["dt"]))
                 else:
-                    r, _ = bench(label, lmp, np_ranks, restart, case, args.steps, args.thermo_every, run_dir)
+                    r, _ = bench(label, lmp, np_ranks, restart, case, args.steps, args.thermo_every, run_dir,
+                                 extra=extra[label])
                 results.setdefault((label, np_ranks), []).append(r)
                 shares = "/".join(f"{v:.1f}" for v in r.breakdown.values())
                 print(f"{label + ' #' + str(repeat):<14}{np_ranks:>6}{r.atoms:>8}{1e3 * r.loop_s / r.steps:>9.3f}"
@@ -307,7 +317,8 @@ def main(argv: list[str] | None = None) -> int:
               f"machine load in the header)")
     counts: dict[str, int] = {}
     if args.callgrind_steps > 0:
-        counts = {label: callgrind_instructions(label, lmp, restart, case, args.callgrind_steps, work / f"{args.scale}-callgrind-{label}")
+        counts = {label: callgrind_instructions(label, lmp, restart, case, args.callgrind_steps, work / f"{args.scale}-callgrind-{label}",
+                                                extra[label])
                   for label, lmp in variants.items()}
         for label, count in counts.items():
             print(f"callgrind {label:<9}: {count / args.callgrind_steps / 1e6:.1f} M instructions per step "
@@ -318,7 +329,7 @@ def main(argv: list[str] | None = None) -> int:
             for label, lmp in variants.items():
                 print(f"--- perf profile: {label}, {np_ranks} rank(s), {args.profile_steps} steps (CPU samples by function)")
                 print(perf_profile(label, lmp, np_ranks, restart, case, args.profile_steps, args.thermo_every,
-                                   work / f"{args.scale}-perf-{label}-np{np_ranks}"), flush=True)
+                                   work / f"{args.scale}-perf-{label}-np{np_ranks}", extra[label]), flush=True)
     machine_at_end = machine()
     print(f"machine at the end: {machine_at_end}")
     if args.json:
@@ -337,6 +348,14 @@ def main(argv: list[str] | None = None) -> int:
                          "its own output)" if args.collect else None,
             "callgrind": {"steps": args.callgrind_steps, "instructions": counts} if counts else None}, indent=1) + "\n")
     return 0
+
+
+def assignments(parser: argparse.ArgumentParser, words: list[str]) -> dict[str, str]:
+    pairs = [w.split("=", 1) for w in words]
+    bad = [w for w, p in zip(words, pairs) if len(p) != 2 or not p[0]]
+    if bad:
+        parser.error(f"{bad[0]!r} is not allowed: NAME=VALUE (a case variable)")
+    return dict(pairs)
 
 
 def spread(values: list[float]) -> dict[str, float]:
