@@ -46,7 +46,7 @@ constexpr int kCrossingsNamed = 10;
 sq::Track load_track(const double *s)
 {
   sq::Track t;
-  std::memcpy(&t, s, sizeof t);
+  std::memcpy(static_cast<void *>(&t), s, sizeof t);  // Track: doubles only (static_assert above)
   return t;
 }
 }  // namespace
@@ -222,9 +222,7 @@ void FixSqueezeLedger::end_of_step()
   const double *wall_ratio = walls_->step_overlap_ratio();
   const unsigned *touched = walls_->step_walls_touched();
   const unsigned *crossed = walls_->step_walls_crossed();
-  std::vector<double> pair_ratio;
-  std::vector<char> pair_touch;
-  pair_depths(pair_ratio, pair_touch);
+  pair_depths(pair_ratio_, pair_touch_);
   const double g = std::sqrt(gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2]);
 
   enum { kKinetic, kKineticSeen, kKineticNew, kGravityWork, kClosed, kPressed, kDistinct, kCrossings, kReleased,
@@ -248,11 +246,14 @@ void FixSqueezeLedger::end_of_step()
     sums[kGravityWork] += dt * work;
     sums[kLift] += rmass[i] * g * radius[i];
 
+    if (s[0] == sq::kFree && !(std::max(wall_ratio[i], pair_ratio_[i]) > thresholds_.start) && crossed[i] == 0 &&
+        s[kCrossed] == 0)
+      continue;  // the common case: no squeeze open, none opening, no crossing
     sq::Sample sample;
     sample.wall_ratio = wall_ratio[i];
     sample.walls = touched[i];
-    sample.pair_ratio = pair_ratio[i];
-    sample.with_particles = pair_touch[i] != 0;
+    sample.pair_ratio = pair_ratio_[i];
+    sample.with_particles = pair_touch_[i] != 0;
     sample.speed = std::sqrt(speed2);
     std::copy(x[i], x[i] + 3, sample.position);
     sq::Track track = load_track(s);

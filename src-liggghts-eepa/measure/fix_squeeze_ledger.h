@@ -78,6 +78,8 @@ private:
   double pressed_now_ = 0, lift_ = 0, power_previous_ = 0;
   int crossings_named_ = 0;
 
+  std::vector<double> pair_ratio_;  // this step's deepest pair δ/R per local particle
+  std::vector<char> pair_touch_;
   std::vector<double> pending_;  // closed events of this rank, one record (15 values) each
 };
 

@@ -34,6 +34,10 @@ constexpr int kOutputsPerScrew = 7;  // load values and the angle
 // an empty candidate list stays valid for at most this many list skins of motion (a choice, not
 // tuned: docs/performance.md)
 constexpr double kFarMargins = 16.0;
+// Slack of the single-precision reach tests on a candidate (Candidate::sphere, ::plane), m: far above
+// their rounding (float coordinates of a machine of 0.1 m: 1e-8 m), far below a particle's radius, so
+// that no triangle within reach is ever skipped; survivors are tested in double precision.
+constexpr double kFilterSlack = 1e-7;
 // LIGGGHTS' coplanarity threshold for mesh faces (SurfaceMesh: 1 − EPSILON_CURVATURE)
 constexpr double kCoplanarCurvature = 1.0 - 1e-5;
 // a corotating screw must be (close to) symmetric about its axis: the area centroid of its surface
@@ -551,8 +555,15 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
       const double centre[3] = {image_body.x, image_body.y, image_body.z};
       const size_t before = list.size();
       screw.tree.for_each_near(centre, reach, [&](int tri) {
-        if (plane_distance(screw.triangles[tri], centre) <= reach)
-          list.push_back({static_cast<int>(s), tri, {images[k][0], images[k][1], images[k][2]}});
+        const tmesh::Triangle &t = screw.triangles[tri];
+        if (plane_distance(t, centre) > reach) return;
+        const double *sphere = screw.tree.bounding_sphere(tri);
+        const double offset = t.normal[0] * t.node[0][0] + t.normal[1] * t.node[0][1] + t.normal[2] * t.node[0][2];
+        list.push_back({static_cast<int>(s), tri, {images[k][0], images[k][1], images[k][2]},
+                        {static_cast<float>(sphere[0]), static_cast<float>(sphere[1]), static_cast<float>(sphere[2]),
+                         static_cast<float>(sphere[3])},
+                        {static_cast<float>(t.normal[0]), static_cast<float>(t.normal[1]),
+                         static_cast<float>(t.normal[2]), static_cast<float>(offset)}});
       });
       // every triangle left out is farther than reach + skin (sphere, box or plane), and none is
       // nearer than the clearance
@@ -636,11 +647,12 @@ void FixWallGranCorotating::corotating_contacts()
         centre[0] = body.x, centre[1] = body.y, centre[2] = body.z;
       }
       // the list was built with reach + skin: most candidates are out of reach now
-      const double *sphere = s.tree.bounding_sphere(cand.triangle);
+      const float *sphere = cand.sphere, *plane = cand.plane;
       const double gx = centre[0] - sphere[0], gy = centre[1] - sphere[1], gz = centre[2] - sphere[2];
-      const double limit = reach + sphere[3];
+      const double limit = reach + sphere[3] + kFilterSlack;
       if (gx * gx + gy * gy + gz * gz > limit * limit) continue;
-      if (plane_distance(s.triangles[cand.triangle], centre) > reach) continue;  // its plane is out of reach
+      const double height = centre[0] * plane[0] + centre[1] * plane[1] + centre[2] * plane[2] - plane[3];
+      if (std::fabs(height) > reach + kFilterSlack) continue;  // its plane is out of reach
       const tmesh::Contact c = tmesh::closest_feature(s.triangles[cand.triangle], centre, s.precision);
       if (c.feature == tmesh::Feature::none) continue;
       const double deltan = c.distance - radius[i];

@@ -100,10 +100,14 @@ public:
 private:
   // A screw triangle near one image of a particle, found with the reach plus the list skin;
   // reused until the particle has moved beyond its margin in the lab or in a screw's frame.
+  // Its bounding sphere and plane are copied here (single precision, read with kFilterSlack): the
+  // per-step reach tests then read the list in order instead of two arrays of the whole mesh.
   struct Candidate {
     int screw;
     int triangle;
     signed char image[3];  // periodic image: x + image · box length
+    float sphere[4];       // centre (screw frame), radius
+    float plane[4];        // unit normal, normal · node 0
   };
   struct Screw {
     std::string mesh_id;
