@@ -109,7 +109,7 @@ public:
 
     // model hertz's dashpot and tangential stiffness, on the active branch's contact radius
     constexpr double kSqrtFiveOverSix = 0.91287092917527685576;
-    const double normal_stiffness = state.stiffness;                      // 2 E* a
+    const double normal_stiffness = state.stiffness;  // 2 E* a
     const double tangential_stiffness = 8.0 * Geff_[itype][jtype] * state.contact_radius;
     const double beta = betaeff_[itype][jtype];
     const double gamman = -2.0 * kSqrtFiveOverSix * beta * std::sqrt(normal_stiffness * sidata.meff);

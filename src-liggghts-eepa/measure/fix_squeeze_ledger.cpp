@@ -115,7 +115,8 @@ std::string FixSqueezeLedger::state_size_hint() const
 void FixSqueezeLedger::init()
 {
   if (!atom->tag_enable) fail(lmp, who_, "needs atom IDs (atom_modify id yes)");
-  if (!atom->radius_flag || !atom->rmass_flag) fail(lmp, who_, "needs per-particle radius and mass (atom_style sphere)");
+  if (!atom->radius_flag || !atom->rmass_flag)
+    fail(lmp, who_, "needs per-particle radius and mass (atom_style sphere)");
   if (force->newton_pair) fail(lmp, who_, "needs newton off (each rank sees every contact of its particles)");
   const int ifix = modify->find_fix(wall_fix_id_.c_str());
   if (ifix < 0) fail(lmp, who_, "walls = '" + wall_fix_id_ + "': no fix with this ID");
@@ -141,8 +142,8 @@ void FixSqueezeLedger::init()
     std::string header = "# tsg-dem squeeze records v1\n";
     header += std::string("# fix ") + id + " squeeze/ledger, group " + group->names[igroup] + ", walls fix " +
               wall_fix_id_ + "\n";
-    header += "# a squeeze opens at overlap/radius > " + number(thresholds_.start) + " (wall or pair) and closes below " +
-              number(thresholds_.end) + "; release speed: the largest in " +
+    header += "# a squeeze opens at overlap/radius > " + number(thresholds_.start) +
+              " (wall or pair) and closes below " + number(thresholds_.end) + "; release speed: the largest in " +
               std::to_string(thresholds_.release_steps) + " steps after\n";
     header += "# walls (bit k of the mask):";
     for (size_t k = 0; k < wall_names_.size(); ++k) header += " " + std::to_string(k) + "=" + wall_names_[k];
@@ -188,8 +189,8 @@ void FixSqueezeLedger::setup(int)
 {
   // a ledger that starts on a restart file written without it: LIGGGHTS restarts its time at 0, so
   // the clock starts at step x dt (the cases' time step is constant)
-  if (!first_setup_done_ && !continuing_) clock_.load(static_cast<double>(update->ntimestep) * update->dt,
-                                                      static_cast<double>(update->ntimestep));
+  if (!first_setup_done_ && !continuing_)
+    clock_.load(static_cast<double>(update->ntimestep) * update->dt, static_cast<double>(update->ntimestep));
   clock_.resume(update);
   double kinetic = 0, lift = 0;
   const double g = std::sqrt(gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2]);
@@ -225,8 +226,19 @@ void FixSqueezeLedger::end_of_step()
   pair_depths(pair_ratio_, pair_touch_);
   const double g = std::sqrt(gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2]);
 
-  enum { kKinetic, kKineticSeen, kKineticNew, kGravityWork, kClosed, kPressed, kDistinct, kCrossings, kReleased,
-         kLift, kSums };
+  enum {
+    kKinetic,
+    kKineticSeen,
+    kKineticNew,
+    kGravityWork,
+    kClosed,
+    kPressed,
+    kDistinct,
+    kCrossings,
+    kReleased,
+    kLift,
+    kSums
+  };
   double sums[kSums] = {0};
   enum { kPeakWall, kPeakPair, kRelease, kMaxima };
   double maxima[kMaxima] = {0};
@@ -265,12 +277,11 @@ void FixSqueezeLedger::end_of_step()
       maxima[kPeakWall] = std::max(maxima[kPeakWall], event.peak_wall);
       maxima[kPeakPair] = std::max(maxima[kPeakPair], event.peak_pair);
       maxima[kRelease] = std::max(maxima[kRelease], event.release_speed);
-      pending_.insert(pending_.end(),
-                      {event.start_time, event.end_time, static_cast<double>(atom->tag[i]), event.position[0],
-                       event.position[1], event.position[2], radius[i], event.peak_wall, event.peak_pair,
-                       static_cast<double>(event.walls), static_cast<double>(sq::kind(event)),
-                       event.with_particles ? 1.0 : 0.0, event.start_speed, event.release_speed,
-                       static_cast<double>(event.number)});
+      pending_.insert(pending_.end(), {event.start_time, event.end_time, static_cast<double>(atom->tag[i]),
+                                       event.position[0], event.position[1], event.position[2], radius[i],
+                                       event.peak_wall, event.peak_pair, static_cast<double>(event.walls),
+                                       static_cast<double>(sq::kind(event)), event.with_particles ? 1.0 : 0.0,
+                                       event.start_speed, event.release_speed, static_cast<double>(event.number)});
     }
     if (events_before == 0 && track.events > 0) sums[kDistinct] += 1;
     sums[kPressed] += track.phase == sq::kPressed;
@@ -280,8 +291,8 @@ void FixSqueezeLedger::end_of_step()
       sums[kCrossings] += 1;
       int wall = 0;
       while (!(crossed[i] & (1u << wall))) ++wall;
-      new_crossings.insert(new_crossings.end(),
-                           {static_cast<double>(atom->tag[i]), static_cast<double>(wall), x[i][0], x[i][1], x[i][2], t});
+      new_crossings.insert(new_crossings.end(), {static_cast<double>(atom->tag[i]), static_cast<double>(wall), x[i][0],
+                                                 x[i][1], x[i][2], t});
     }
     s[kCrossed] = crossed[i] != 0;
   }
@@ -386,10 +397,11 @@ void FixSqueezeLedger::stop_for_energy()
   }
   MPI_Bcast(where, 4, MPI_DOUBLE, fastest.rank, world);
   fail(lmp, who_,
-       "kinetic energy runaway: KE = " + number(kinetic_) + " J exceeds the energy the walls, gravity and new particles " +
-           "brought (" + number(budget_) + " J) by " + number(excess()) + " of the energy turnover, above max_energy_excess = " +
-           number(max_energy_excess_) + "; fastest particle " + number(where[0]) + " at (" + number(where[1]) + ", " +
-           number(where[2]) + ", " + number(where[3]) + ") m, " + number(fastest.speed) +
+       "kinetic energy runaway: KE = " + number(kinetic_) +
+           " J exceeds the energy the walls, gravity and new particles " + "brought (" + number(budget_) + " J) by " +
+           number(excess()) + " of the energy turnover, above max_energy_excess = " + number(max_energy_excess_) +
+           "; fastest particle " + number(where[0]) + " at (" + number(where[1]) + ", " + number(where[2]) + ", " +
+           number(where[3]) + ") m, " + number(fastest.speed) +
            " m/s (the integration creates energy: reduce the time step)");
 }
 
@@ -413,14 +425,14 @@ void FixSqueezeLedger::flush()
   const size_t n = static_cast<size_t>(total / kRecordWidth);
   std::vector<const double *> rows(n);
   for (size_t k = 0; k < n; ++k) rows[k] = &all[k * kRecordWidth];
-  std::sort(rows.begin(), rows.end(), [](const double *a, const double *b) {
-    return std::tie(a[1], a[2], a[0]) < std::tie(b[1], b[2], b[0]);
-  });
+  std::sort(rows.begin(), rows.end(),
+            [](const double *a, const double *b) { return std::tie(a[1], a[2], a[0]) < std::tie(b[1], b[2], b[0]); });
   std::string text;
   char line[512];
   for (const double *r : rows) {
-    std::snprintf(line, sizeof line, "%.10g %.10g %.0f %.10g %.10g %.10g %.10g %.10g %.10g %.0f %.0f %.0f %.10g %.10g %.0f\n",
-                  r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14]);
+    std::snprintf(line, sizeof line,
+                  "%.10g %.10g %.0f %.10g %.10g %.10g %.10g %.10g %.10g %.0f %.0f %.0f %.10g %.10g %.0f\n", r[0], r[1],
+                  r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13], r[14]);
     text += line;
   }
   fwrite(text.data(), 1, text.size(), fp_);
@@ -430,19 +442,32 @@ void FixSqueezeLedger::flush()
 double FixSqueezeLedger::compute_vector(int n)
 {
   switch (n) {
-    case 0: return events_;
-    case 1: return pressed_now_;
-    case 2: return distinct_;
-    case 3: return peak_wall_;
-    case 4: return peak_pair_;
-    case 5: return max_release_;
-    case 6: return crossings_;
-    case 7: return work_walls_;
-    case 8: return work_gravity_;
-    case 9: return kinetic_;
-    case 10: return budget_ - kinetic_;
-    case 11: return excess();
-    default: return released_;
+    case 0:
+      return events_;
+    case 1:
+      return pressed_now_;
+    case 2:
+      return distinct_;
+    case 3:
+      return peak_wall_;
+    case 4:
+      return peak_pair_;
+    case 5:
+      return max_release_;
+    case 6:
+      return crossings_;
+    case 7:
+      return work_walls_;
+    case 8:
+      return work_gravity_;
+    case 9:
+      return kinetic_;
+    case 10:
+      return budget_ - kinetic_;
+    case 11:
+      return excess();
+    default:
+      return released_;
   }
 }
 
@@ -450,9 +475,25 @@ double FixSqueezeLedger::compute_vector(int n)
 namespace {
 constexpr double kRestartMark = -20261203.0;
 enum RestartEntry {
-  kMark, kEvents, kDistinct, kCrossingsTotal, kPeakWallRun, kPeakPairRun, kMaxRelease, kWorkWalls, kWorkGravity,
-  kBudget, kScale, kKineticTotal, kReleasedTotal, kPowerPrevious, kCrossingsNamedTotal, kFirstSetup, kClockTime,
-  kClockStep, kEntries
+  kMark,
+  kEvents,
+  kDistinct,
+  kCrossingsTotal,
+  kPeakWallRun,
+  kPeakPairRun,
+  kMaxRelease,
+  kWorkWalls,
+  kWorkGravity,
+  kBudget,
+  kScale,
+  kKineticTotal,
+  kReleasedTotal,
+  kPowerPrevious,
+  kCrossingsNamedTotal,
+  kFirstSetup,
+  kClockTime,
+  kClockStep,
+  kEntries
 };
 }  // namespace
 

@@ -25,7 +25,8 @@ struct Thresholds {
 
 inline void validate(const Thresholds &t)
 {
-  if (!(t.start > 0 && t.start < 10)) throw std::invalid_argument("start = " + std::to_string(t.start) + " must be in (0, 10) (δ/R)");
+  if (!(t.start > 0 && t.start < 10))
+    throw std::invalid_argument("start = " + std::to_string(t.start) + " must be in (0, 10) (δ/R)");
   if (!(t.end > 0 && t.end <= t.start))
     throw std::invalid_argument("end = " + std::to_string(t.end) + " must be in (0, start] (δ/R)");
   if (t.release_steps < 0) throw std::invalid_argument("release_steps must be >= 0");
@@ -33,11 +34,11 @@ inline void validate(const Thresholds &t)
 
 // What the particle feels at one step.
 struct Sample {
-  double wall_ratio = 0;     // deepest δ/R against any wall (0: none)
-  unsigned walls = 0;        // bit k: touches wall k (δ > 0)
-  double pair_ratio = 0;     // deepest δ/R against another particle (0: none)
+  double wall_ratio = 0;        // deepest δ/R against any wall (0: none)
+  unsigned walls = 0;           // bit k: touches wall k (δ > 0)
+  double pair_ratio = 0;        // deepest δ/R against another particle (0: none)
   bool with_particles = false;  // touches another particle (δ > 0)
-  double speed = 0;          // m/s
+  double speed = 0;             // m/s
   double position[3] = {0, 0, 0};
 };
 
@@ -53,9 +54,9 @@ struct Track {
   double walls = 0;           // union of the wall bits during the event
   double with_particles = 0;  // 1: other particles pressed during the event
   double peak_position[3] = {0, 0, 0};
-  double release_left = 0;    // steps of the release still to follow
+  double release_left = 0;  // steps of the release still to follow
   double release_speed = 0;
-  double events = 0;          // events of this particle so far, this one included once opened
+  double events = 0;  // events of this particle so far, this one included once opened
 };
 
 // A finished event.
@@ -88,10 +89,14 @@ inline Kind kind(const Event &e)
 inline const char *kind_name(Kind k)
 {
   switch (k) {
-    case Kind::two_walls: return "two_walls";
-    case Kind::wall_and_particles: return "wall_and_particles";
-    case Kind::wall_alone: return "wall_alone";
-    case Kind::particles: return "particles";
+    case Kind::two_walls:
+      return "two_walls";
+    case Kind::wall_and_particles:
+      return "wall_and_particles";
+    case Kind::wall_alone:
+      return "wall_alone";
+    case Kind::particles:
+      return "particles";
   }
   return "?";
 }

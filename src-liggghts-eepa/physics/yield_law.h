@@ -81,7 +81,8 @@ inline double loading_work(const Parameters &p, double overlap)
   const double dy = yield_overlap(p);
   if (overlap <= dy) return 0.4 * hertz_force(p.modulus, p.radius, overlap) * overlap;
   const double beyond = overlap - dy;
-  return 0.4 * yield_force(p) * dy + yield_force(p) * beyond + 0.5 * kPi * p.yield_pressure * p.radius * beyond * beyond;
+  return 0.4 * yield_force(p) * dy + yield_force(p) * beyond +
+         0.5 * kPi * p.yield_pressure * p.radius * beyond * beyond;
 }
 
 // History after loading to δ_max on the virgin curve.

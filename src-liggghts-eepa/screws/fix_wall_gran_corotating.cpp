@@ -161,7 +161,8 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
       if (iarg + 2 > narg) fail("restart_contacts needs 'keep' or 'reset'");
       const std::string value = arg[iarg + 1];
       if (value != "keep" && value != "reset")
-        fail("restart_contacts = '" + value + "' is not allowed: 'keep' (continue the contacts of a restart file) or "
+        fail("restart_contacts = '" + value +
+             "' is not allowed: 'keep' (continue the contacts of a restart file) or "
              "'reset' (start every particle-wall contact afresh, e.g. after a change of wall model)");
       reset_restart_contacts_ = value == "reset";
       iarg += 2;
@@ -559,7 +560,9 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
         if (plane_distance(t, centre) > reach) return;
         const double *sphere = screw.tree.bounding_sphere(tri);
         const double offset = t.normal[0] * t.node[0][0] + t.normal[1] * t.node[0][1] + t.normal[2] * t.node[0][2];
-        list.push_back({static_cast<int>(s), tri, {images[k][0], images[k][1], images[k][2]},
+        list.push_back({static_cast<int>(s),
+                        tri,
+                        {images[k][0], images[k][1], images[k][2]},
                         {static_cast<float>(sphere[0]), static_cast<float>(sphere[1]), static_cast<float>(sphere[2]),
                          static_cast<float>(sphere[3])},
                         {static_cast<float>(t.normal[0]), static_cast<float>(t.normal[1]),
@@ -944,8 +947,10 @@ void FixWallGranCorotating::restart(char *buf)
          std::to_string(history_size_) +
          " (another wall model: 'restart_contacts reset' starts every particle-wall contact afresh)");
   if (comm->me == 0 && reset_restart_contacts_)
-    error->message(FLERR, (std::string("fix ") + id + " wall/gran/corotating: restart_contacts reset: every "
-                           "particle-wall contact of the restart file starts afresh").c_str());
+    error->message(FLERR, (std::string("fix ") + id +
+                           " wall/gran/corotating: restart_contacts reset: every "
+                           "particle-wall contact of the restart file starts afresh")
+                              .c_str());
   clock_.load(list[0], list[1]);
 }
 

@@ -166,7 +166,7 @@ private:
   // meshed curved surface touches many triangles at once (each one a contact, as in fix wall/gran)
   int max_contacts_ = 64;
   bool reset_restart_contacts_ = false;  // restart_contacts reset
-  int most_contacts_ = 0;  // largest number of contacts of one particle seen (reported)
+  int most_contacts_ = 0;                // largest number of contacts of one particle seen (reported)
   // candidate lists hold triangles within reach + list skin; default half the neighbour skin (the
   // lists are rebuilt when a particle near a screw moves a list skin in its frame, where the screw's
   // turning moves every particle: docs/rotating-screws.md has the measured trade-off)

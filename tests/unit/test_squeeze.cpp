@@ -40,9 +40,9 @@ TEST(Squeeze, OnePinchBetweenTwoWallsIsOneEventWithItsPeakAndRelease)
   sq::Thresholds th;  // start 0.1, end 0.05, release over 50 steps
   th.release_steps = 3;
   sq::Track track;
-  const std::vector<Step> steps = {{0.02, 0, 1, 0.5}, {0.12, 0, 1, 0.4}, {0.30, 0, 3, 0.3}, {0.20, 0, 2, 0.3},
-                                   {0.04, 0, 2, 2.0}, {0.0, 0, 0, 7.0},  {0.0, 0, 0, 5.0},  {0.0, 0, 0, 4.0},
-                                   {0.0, 0, 0, 9.0}};
+  const std::vector<Step> steps = {{0.02, 0, 1, 0.5}, {0.12, 0, 1, 0.4}, {0.30, 0, 3, 0.3},
+                                   {0.20, 0, 2, 0.3}, {0.04, 0, 2, 2.0}, {0.0, 0, 0, 7.0},
+                                   {0.0, 0, 0, 5.0},  {0.0, 0, 0, 4.0},  {0.0, 0, 0, 9.0}};
   const auto events = feed(track, steps, th);
   ASSERT_EQ(events.size(), 1u);
   const sq::Event &e = events[0];

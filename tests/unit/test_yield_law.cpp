@@ -40,7 +40,8 @@ TEST(YieldLaw, BelowTheYieldOverlapItIsHertz)
   EXPECT_FALSE(s.yielding);
   // the largest Hertz pressure 2 E* a / (π R) reaches p_y exactly at δ_y
   const double a = std::sqrt(kParams.radius * dy);
-  EXPECT_NEAR(2 * kParams.modulus * a / (y::kPi * kParams.radius), kParams.yield_pressure, 1e-9 * kParams.yield_pressure);
+  EXPECT_NEAR(2 * kParams.modulus * a / (y::kPi * kParams.radius), kParams.yield_pressure,
+              1e-9 * kParams.yield_pressure);
 }
 
 TEST(YieldLaw, BeyondYieldTheForceGrowsAtPiPyR)
