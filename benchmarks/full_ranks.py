@@ -3,7 +3,7 @@
     .venv/bin/python benchmarks/full_ranks.py [--np 1 2] [--steps 6000] [--repeat 2] [--work DIR] [--json FILE]
         [--baseline LMP]
 
-The state is the 1.5 mm full run kept for the validation (docs/validation/full-demo-d15: ≈ 5 500
+The state is the 1.5 mm full run kept for the validation (studies/validation/full-demo-d15: ≈ 5 500
 particles spread over the whole machine, screws turning, feed on). Each row continues it for --steps
 steps with cases/in.tsg_full as it is; the multi-rank rows twice: with the load balance of the open
 cases (fix balance/x every 1000 steps, the default) and with equal slabs (-var balance_every 0). Printed:
@@ -33,7 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import paper_cost  # noqa: E402  (mpi, machine: one way to launch lmp and to name the machine)
 
 ROOT = paper_cost.ROOT
-KEPT = ROOT / "docs" / "validation" / "full-demo-d15"
+KEPT = ROOT / "studies" / "validation" / "full-demo-d15"
 MESH_NAME = "consigma1-full-4um-c2.1-4.2mm-g2.1mm"
 MESH_OPTIONS = ["--tolerance", "4e-06", "--clearance", "0.0021", "--screw-clearance", "0.0042", "--disc-gap", "0.0021"]
 CHUNK = 2000   # the case runs in chunks of thermo_every steps (params.json of the kept run)
