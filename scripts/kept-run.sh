@@ -27,7 +27,7 @@ kept="$(cd "${2:?$usage}" && pwd)"
 # shellcheck source=/dev/null
 . "$kept/run.conf"
 case "${OUT:?run.conf: OUT not set}" in /*) out="$OUT" ;; *) out="$repo/$OUT" ;; esac
-outputs=(log.lammps massflow.txt residence.txt elements.txt holdup.txt phase.in fill.vars)   # what a continuation reads
+outputs=(log.lammps massflow.txt residence.txt elements.txt holdup.txt squeezes.txt phase.in fill.vars)   # what a continuation reads
 
 if [ "$action" = keep ]; then
   if pgrep -f "in.tsg_${CASE} .*$out" > /dev/null; then
