@@ -21,7 +21,7 @@ from .rtd import (
     rtd_histogram,
     tanks_in_series_density,
 )
-from .run_files import MassFlowRecord, Zones
+from .run_files import SQUEEZE_KINDS, MassFlowRecord, SqueezeRecords, Zones
 from .uncertainty import Difference, Estimate
 
 matplotlib.use("Agg")  # before the first figure: pyplot switches to it
@@ -300,3 +300,25 @@ def plot_domain_elements(path: Path, rows: Sequence, quantities: Sequence[str], 
     axes[0][0].legend(fontsize=8)
     fig.tight_layout()
     return _save(fig, path)
+
+
+def plot_squeezes_along_x(path: Path, label: str, records: SqueezeRecords, zones: Zones) -> Path:
+    """Squeeze events along the axis (the position of each event's deepest overlap), stacked by kind,
+    with the element boundaries."""
+    fig, ax = plt.subplots(figsize=(9, 3.5))
+    x = records["x"] * 1e3
+    edges = np.linspace(float(zones.x_start[0]) * 1e3, float(zones.x_end[-1]) * 1e3, 97)
+    kinds = records["kind"].astype(int)
+    ax.hist([x[kinds == k] for k in range(len(SQUEEZE_KINDS))], bins=list(edges), stacked=True,
+            label=list(SQUEEZE_KINDS))
+    for boundary, name in zip(zones.x_start * 1e3, zones.labels):
+        ax.axvline(boundary, color="0.6", lw=0.6)
+        ax.text(boundary, 1.0, f" {name}", transform=ax.get_xaxis_transform(), fontsize=7, va="top")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("squeeze events")
+    ax.set_title(f"{label}: {len(records)} squeeze events along x", fontsize=10)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

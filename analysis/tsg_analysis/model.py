@@ -14,6 +14,7 @@ from .parameters import RunParameters
 from .profiles import ElementProfile
 from .rtd import RTDComparison, RTDStatistics
 from .run_files import MassFlowRecord, ResidenceRecords, Zones
+from .squeezes import SqueezeLedger
 from .uncertainty import Difference, Estimate
 
 if TYPE_CHECKING:
@@ -67,6 +68,7 @@ class RunAnalysis:
     maps: dict[str, SolidFractionMap] = field(default_factory=dict)
     plane_flows: PlaneFlows | None = None
     log_summary: dict | None = None
+    squeezes: SqueezeLedger | None = None  # squeezes.txt (fix squeeze/ledger); None without it
     figures: dict[str, str] = field(default_factory=dict)  # part -> file name
     notes: list[str] = field(default_factory=list)  # input issues that did not stop a part
     missing: list[tuple[str, str]] = field(default_factory=list)  # (part, reason)

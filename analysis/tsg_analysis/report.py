@@ -289,6 +289,11 @@ def _snapshot(run: RunAnalysis, last_dump: Path, settings: Settings) -> None:
     run.figures["snapshot"] = name
 
 
+def _analyse_squeezes(run: RunAnalysis) -> None:
+    """The squeeze ledger over the whole record (squeezes are counted from the run's start)."""
+    run.squeezes = _source(run).squeeze_ledger()
+
+
 def _sensor_flows(run: RunAnalysis) -> dict[str, Estimate]:
     return _source(run).sensor_flows(*_bounds(run))
 
@@ -322,6 +327,9 @@ def analyse_run(run_dir: Path, label: str, out_dir: Path, settings: Settings) ->
     if run.maps:
         run.figures["cross_sections"] = f"{slug}_cross_sections.png"
         figures.plot_cross_sections(out_dir / run.figures["cross_sections"], label, run.maps)
+    if (run.run_dir / "squeezes.txt").is_file() and _attempt(run, "squeeze ledger", lambda: _analyse_squeezes(run)):
+        run.figures["squeezes"] = f"{slug}_squeezes.png"
+        figures.plot_squeezes_along_x(out_dir / run.figures["squeezes"], label, source.squeezes, source.zones)
     if run.plane_flows is not None and run.zones is not None:
         run.figures["plane_flows"] = f"{slug}_plane_flows.png"
         figures.plot_plane_flows(out_dir / run.figures["plane_flows"], label, run.plane_flows, run.zones)

@@ -261,6 +261,14 @@ def dumps_markdown(run: RunAnalysis, with_figures: bool = True) -> str:
     return "\n".join(lines)
 
 
+def squeezes_markdown(run: RunAnalysis, with_figures: bool = True) -> str:
+    if run.squeezes is None:
+        return ""
+    lines = ["### Squeezes", "", "```", run.squeezes.text(), "```", "",
+             *_figure(run, "squeezes", "squeeze events along x", with_figures)]
+    return "\n".join(lines) + "\n"
+
+
 def comparison_markdown(report: Report) -> str:
     if not report.comparisons:
         return ""
@@ -307,7 +315,8 @@ def markdown(report: Report) -> str:
              f"Numbers in summary.json that are null are {NULL_MEANS}.", ""]
     for run in report.runs:
         lines += [f"## Run `{run.label}`", "", f"Directory: `{run.run_dir}`", "", log_markdown(run),
-                  massflow_markdown(run), rtd_markdown(run), profile_markdown(run), dumps_markdown(run)]
+                  massflow_markdown(run), rtd_markdown(run), profile_markdown(run), dumps_markdown(run),
+                  squeezes_markdown(run)]
         if run.notes:
             lines += ["**Input notes:**", "", *[f"- {n}" for n in run.notes], ""]
     lines += [differences_markdown(report), comparison_markdown(report)]

@@ -70,3 +70,15 @@ def test_an_empty_ledger_says_so(tmp_path):
     (tmp_path / "zones.txt").write_text(ZONES)
     with pytest.raises(AnalysisInputError, match="no squeeze events"):
         Run(tmp_path).squeeze_ledger()
+
+
+def test_the_report_shows_the_ledger_and_its_figure(tmp_path):
+    from tsg_analysis.report import build_report
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "squeezes.txt").write_text(squeeze_file(rows()))
+    (run / "zones.txt").write_text(ZONES)
+    build_report([run], tmp_path / "report")
+    text = (tmp_path / "report" / "report.md").read_text()
+    assert "### Squeezes" in text and "4 events, 3 particles" in text
+    assert (tmp_path / "report" / "run_squeezes.png").stat().st_size > 0
