@@ -408,19 +408,9 @@ void FixResidenceTime::flush()
     mine.insert(mine.end(), r.zone_time.begin(), r.zone_time.end());
   }
   pending_.clear();
-  int count = static_cast<int>(mine.size());
-  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, world);
-  int total = 0;
-  if (comm->me == 0)
-    for (int p = 0; p < comm->nprocs; ++p) {
-      displs[p] = total;
-      total += counts[p];
-    }
-  std::vector<double> all(comm->me == 0 ? static_cast<size_t>(total) : 0);
-  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, world);
-  if (comm->me == 0 && total > 0) {
-    const size_t n = static_cast<size_t>(total / width);
+  const std::vector<double> all = tsg::measure::gather_to_root(world, mine, comm->me, comm->nprocs);
+  if (comm->me == 0 && !all.empty()) {
+    const size_t n = all.size() / static_cast<size_t>(width);
     std::vector<res::Record> records(n);
     for (size_t k = 0; k < n; ++k) {
       const double *row = &all[k * width];

@@ -409,20 +409,10 @@ void FixSqueezeLedger::post_run() { flush(); }
 
 void FixSqueezeLedger::flush()
 {
-  int count = static_cast<int>(pending_.size());
-  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, world);
-  int total = 0;
-  if (comm->me == 0)
-    for (int p = 0; p < comm->nprocs; ++p) {
-      displs[p] = total;
-      total += counts[p];
-    }
-  std::vector<double> all(comm->me == 0 ? static_cast<size_t>(total) : 0);
-  MPI_Gatherv(pending_.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, world);
+  const std::vector<double> all = tsg::measure::gather_to_root(world, pending_, comm->me, comm->nprocs);
   pending_.clear();
   if (comm->me != 0 || !fp_) return;
-  const size_t n = static_cast<size_t>(total / kRecordWidth);
+  const size_t n = all.size() / kRecordWidth;
   std::vector<const double *> rows(n);
   for (size_t k = 0; k < n; ++k) rows[k] = &all[k * kRecordWidth];
   std::sort(rows.begin(), rows.end(),

@@ -69,6 +69,24 @@ inline bool parse_integer(const char *text, long lo, long hi, long &value)
   return *end == '\0' && errno != ERANGE && value >= lo && value <= hi;
 }
 
+// Every rank's values, concatenated in rank order on rank 0 (empty elsewhere): the records a
+// measurement fix buffers per rank, for rank 0 to write.
+inline std::vector<double> gather_to_root(MPI_Comm world, const std::vector<double> &mine, int me, int nprocs)
+{
+  int count = static_cast<int>(mine.size());
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, world);
+  int total = 0;
+  if (me == 0)
+    for (int p = 0; p < nprocs; ++p) {
+      displs[p] = total;
+      total += counts[p];
+    }
+  std::vector<double> all(me == 0 ? static_cast<size_t>(total) : 0);
+  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, world);
+  return all;
+}
+
 // "yes" or "no", else an error naming the keyword and the value.
 inline bool parse_yes_no(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &keyword, const char *value)
 {
