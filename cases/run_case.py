@@ -28,7 +28,7 @@ from tsg_analysis.liggghts_log import parse_thermo
 from tsg_analysis.run import Run
 from tsg_analysis.run_files import read_zones
 from tsg_analysis.summary import summary_table
-from tsg_cases import prepared
+from tsg_cases import prepared, states
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
 from tsg_cases.command_line import run_reporting
 from tsg_cases.launcher import ROOT, LauncherError, first_error, lmp_command, lmp_environment
@@ -135,6 +135,9 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--mesh-tolerance", type=float,
                         help="mesh tolerance in m instead of the scale's (1 %% of the smallest radius)")
     parser.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"))
+    parser.add_argument("--from-state", type=Path, metavar="STATE_DIR",
+                        help="start from a kept state (cases/states.py): its fill and seed, continued from the end "
+                             "of its start-up; the measurements run t_sample from there")
     parser.add_argument("--prepare-only", action="store_true",
                         help="prepare the run directory (meshes, fill or feed regions, params.json, lmp.vars) and "
                              "stop before lmp: for job scripts that run lmp themselves (cases/slurm/segment.sh, TSG_PREPARE)")
@@ -171,6 +174,36 @@ def check_options(args: argparse.Namespace) -> None:
             raise UserError(f"--seed {args.seed} and -v {twice[0]} both set the generation seeds: give one of them")
     if args.out.exists() and not args.out.is_dir():
         raise UserError(f"--out {args.out}: is a file, not a directory")
+    if args.from_state is not None:
+        check_state(args)
+
+
+# variables a run from a kept state takes from the state (its start-up, its fill and so its machine):
+# given as well, one of them would not apply
+STATE_VARIABLES = ("start", "restart_file", "t_startup", "write_state", "d_mean", "psd_sigma")
+
+
+def check_state(args: argparse.Namespace) -> None:
+    """--from-state: a state of this case and scale; the fill seed is the state's."""
+    try:
+        state = states.read(args.from_state)
+    except states.StateError as problem:
+        raise UserError(str(problem)) from None
+    if (state.case, state.scale) != (args.case, args.scale):
+        raise UserError(f"--from-state {args.from_state}: a state of the {state.case} case at {state.scale} scale, "
+                        f"not allowed for the {args.case} case at {args.scale} scale")
+    if args.seed is not None and args.seed != state.seed:
+        raise UserError(f"--seed {args.seed} is not allowed with --from-state {args.from_state}: its fill has seed "
+                        f"{state.seed} (leave --seed out)")
+    options = [option for option, value in (("--holdup-g", args.holdup_g), ("--clearances", args.clearances),
+                                            ("--mesh-tolerance", args.mesh_tolerance)) if value is not None]
+    if options:
+        raise UserError(f"{options[0]} is not allowed with --from-state {args.from_state}: the state's fill and machine apply")
+    given = [name for name, _ in args.var if name in STATE_VARIABLES]
+    if given:
+        raise UserError(f"-v {given[0]} is not allowed with --from-state: the state sets {', '.join(STATE_VARIABLES)}")
+    args.seed = state.seed
+    args.state = state
 
 
 def generation_seeds(seed: int) -> tuple[int, int]:
@@ -203,6 +236,9 @@ def run(args: argparse.Namespace) -> int:
     check_names(given, args.case)
     scale = SCALES[args.scale]
     variables: dict[str, object] = {**scale["vars"], **scale["times"][args.case], **given}
+    state: states.KeptState | None = getattr(args, "state", None)
+    if state is not None:   # the start-up is the state's; restart_file is set once it is unpacked
+        variables.update({"start": "restart", "t_startup": repr(state.t_startup)})
     if args.case != "periodic" and args.seed is not None:
         variables["seed_psd"], variables["seed_insert"] = generation_seeds(args.seed)
     # the values the run will use: the case's defaults under the scale's and the user's
@@ -217,6 +253,8 @@ def run(args: argparse.Namespace) -> int:
         (out / ".tsg-write-test").unlink()
     except OSError as problem:
         raise UserError(f"--out {args.out}: cannot write there ({problem.strerror})") from None
+    if state is not None:
+        variables["restart_file"] = states.unpack(state, out)
     preparing = Heartbeat(f"{args.case} case: meshes and {'fill' if args.case == 'periodic' else 'feed regions'}").start()
 
     clearances = tuple(args.clearances) if args.clearances else \
@@ -258,6 +296,8 @@ def run(args: argparse.Namespace) -> int:
     (out / "params.json").write_text(json.dumps({
         "case": args.case, "scale": args.scale,
         "seed": DEFAULT_FILL_SEED if args.seed is None and args.case == "periodic" else args.seed, "np": args.np,
+        "from_state": None if state is None else {"path": str(state.path), "t_startup": state.t_startup,
+                                                  "step": state.step, "command": state.command, "commit": state.commit},
         "variables": {k: str(v) for k, v in variables.items()},
         "rpm": float(effective["rpm"]), "screw_direction": int(float(effective["screw_direction"])),
         "rho_p": rho_p, "d_mean": d_mean, "mesh_dir": str(mesh_dir), "zones_file": str(out / "zones.txt"),

@@ -1,7 +1,7 @@
 """Command line:
 
     python -m tsg_analysis report <run_dir> [<run_dir> ...] --out <dir>   report.md, figures, JSON, CSV
-    python -m tsg_analysis summary <run_dir>                                 the run's summary table
+    python -m tsg_analysis summary <run_dir> [<run_dir> ...]                 the run's summary table (replicas combined)
     python -m tsg_analysis compare <reference_dir> <run_dir> [...]          differences ± 95 % interval
                                    (replicas of one setting comma-separated: a,b,c)
     python -m tsg_analysis domains <full_run> --periodic-zones ZONES        hold-up of the periodic elements
@@ -98,9 +98,10 @@ def _report(args: argparse.Namespace) -> int:
 def _summary(args: argparse.Namespace) -> int:
     from .summary import summary_table
 
-    if not args.run_dir.is_dir():
-        raise UsageError(f"run_dir {args.run_dir}: no such directory")
-    print(summary_table(Run(args.run_dir)))
+    for run_dir in args.run_dirs:
+        if not run_dir.is_dir():
+            raise UsageError(f"run_dir {run_dir}: no such directory")
+    print(summary_table([Run(run_dir) for run_dir in args.run_dirs]))
     return 0
 
 
@@ -215,8 +216,9 @@ def parser() -> argparse.ArgumentParser:
                         help="particle density (kg/m^3) for dumps without a mass column (default: the run's rho_p)")
     report.add_argument("--no-snapshot", action="store_true", help="skip the pyvista snapshot")
     report.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
-    summary = commands.add_parser("summary", help="print a run's summary: every quantity ± 95 %% interval")
-    summary.add_argument("run_dir", type=Path)
+    summary = commands.add_parser("summary", help="print a run's summary: every quantity ± 95 %% interval; several "
+                                  "runs: replicas (fill seeds) combined")
+    summary.add_argument("run_dirs", type=Path, nargs="+", metavar="run_dir")
     summary.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     compare = commands.add_parser("compare", help="differences of runs against a reference ± 95 %% interval")
     compare.add_argument("reference", help="reference run directory; replicas comma-separated (a,b,c)")

@@ -114,19 +114,39 @@ def squeeze_lines(run: Run) -> list[str]:
         return [f"squeezes: none ({why})"]
 
 
-def summary_table(run: Run) -> str:
-    """The runner's summary: one line per quantity, mean ± 95 % interval or why there is none."""
-    summary = summarise(run)
+def combine_summaries(summaries: Sequence[RunSummary]) -> RunSummary:
+    """Replicas (runs that differ only in the fill seed) combined quantity by quantity
+    (uncertainty.combine_replicas); a quantity only where every replica has it."""
+    if not summaries:
+        raise ValueError("no run summaries")
+    if len(summaries) == 1:
+        return summaries[0]
+    first = summaries[0]
+    combined = RunSummary(first.run_dir, first.parameters, complete_records=sum(s.complete_records for s in summaries))
+    for row in first.rows:
+        estimates = [s.get(row.quantity, row.scope) for s in summaries]
+        if all(e is not None for e in estimates):
+            combined.rows.append(SummaryRow(row.quantity, row.scope, combine_replicas(estimates)))  # type: ignore[arg-type]
+    combined.not_available = list(dict.fromkeys(why for s in summaries for why in s.not_available))
+    return combined
+
+
+def summary_table(runs: Run | Sequence[Run]) -> str:
+    """The runner's summary: one line per quantity, mean ± 95 % interval or why there is none. Several
+    runs: replicas, combined (combine_summaries), after each replica's contact and squeeze lines."""
+    runs = [runs] if isinstance(runs, Run) else list(runs)
+    summary = combine_summaries([summarise(run) for run in runs])
     lines = []
     if summary.parameters is not None:
         p = summary.parameters
         lines.append(f"parameters ({p.source}): {p.rpm:g} rpm, rho_p {p.rho_p:g} kg/m3, d_mean {p.d_mean:g} m")
-    health = contact_health(run)
-    if health is not None:
-        lines.append(health)
-    lines += squeeze_lines(run)
-    lines.append("mean ± 95 % confidence interval over the sampling window (independent samples; 'drifting': "
-                 "the window's halves differ; stationary from: detected start vs window start)")
+    for run in runs:
+        own = [line for line in [contact_health(run), *squeeze_lines(run)] if line is not None]
+        lines += [f"{run.path.name}: {line}" for line in own] if len(runs) > 1 else own
+    window = "over the sampling window" if len(runs) == 1 else \
+        f"over the sampling windows of {len(runs)} replicas combined ({', '.join(run.path.name for run in runs)})"
+    lines.append(f"mean ± 95 % confidence interval {window} (independent samples; 'drifting': the window's halves "
+                 "differ; stationary from: detected start vs window start)")
     for quantity, unit in UNITS.items():
         rows = [r for r in summary.rows if r.quantity == quantity]
         reasons = [why for q, why in summary.not_available if q == quantity or (q == "element statistics"
@@ -160,14 +180,8 @@ def combined_rows(runs: Sequence[Run], start: float | None = None) -> dict[Key, 
     record from `start` s on (all of it when None)."""
     if not runs:
         raise ValueError("no run directories")
-    summaries = [summarise(run, start) for run in runs]
-    keys = [(r.quantity, r.scope) for r in summaries[0].rows]
-    combined = {}
-    for key in keys:
-        estimates = [s.get(*key) for s in summaries]
-        if all(e is not None for e in estimates):
-            combined[key] = combine_replicas(estimates)  # type: ignore[arg-type]
-    return combined
+    combined = combine_summaries([summarise(run, start) for run in runs])
+    return {(r.quantity, r.scope): r.estimate for r in combined.rows}
 
 
 def compare_runs(reference: Sequence[Run], variants: Mapping[str, Sequence[Run]],

@@ -1,0 +1,136 @@
+"""Kept states: a periodic run's state at the end of its start-up, kept (compressed, in git) so that
+other runs start from it instead of running the start-up again.
+
+    python -m tsg_cases.states keep RUN_DIR STATE_DIR     # after tsg-run-case periodic ... -v write_state 1
+    tsg-run-case periodic --scale demo --from-state STATE_DIR --out OUT [-v t_sample T]
+
+A state directory holds state.restart.xz (the LIGGGHTS restart file the case wrote when its
+start-up ended: `-v write_state 1`), fill.vars (the fill's smallest diameter and particle count, which
+a continued run reads) and state.json: the case, scale, fill seed and start-up time of the run that
+made it, its command and commit. A run from a state is the same case with the same fill, continued:
+`start restart` from that file with `t_startup` the state's, so its measurements begin where the
+state ends (cases/in.tsg_periodic, "job segments"). The restart file is read by the lmp of today: a
+change to a fix's restart layout needs the states made again (the command is in state.json).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import lzma
+import math
+import shutil
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from tsg_analysis.liggghts_log import parse_thermo
+
+STATE_RESTART = "state.restart"  # the file `-v write_state 1` writes in the run directory
+DESCRIPTION = "state.json"
+FILL_VARS = "fill.vars"
+
+
+class StateError(Exception):
+    """A state directory that cannot be used (one line naming the file and what is wrong)."""
+
+
+@dataclass(frozen=True)
+class KeptState:
+    path: Path
+    case: str
+    scale: str
+    seed: int
+    t_startup: float  # s: the run's start-up, at whose end the state was written
+    step: int
+    command: str
+    commit: str | None
+
+    @property
+    def restart(self) -> Path:
+        return self.path / f"{STATE_RESTART}.xz"
+
+
+def read(state_dir: Path) -> KeptState:
+    """The state in `state_dir`, checked: its description, restart file and fill variables."""
+    description = state_dir / DESCRIPTION
+    try:
+        values = json.loads(description.read_text())
+    except FileNotFoundError:
+        raise StateError(f"--from-state {state_dir}: no {DESCRIPTION} (a kept state: python -m tsg_cases.states keep)") from None
+    except json.JSONDecodeError as problem:
+        raise StateError(f"--from-state {state_dir}: {DESCRIPTION} is not JSON ({problem})") from None
+    for name in (f"{STATE_RESTART}.xz", FILL_VARS):
+        if not (state_dir / name).is_file():
+            raise StateError(f"--from-state {state_dir}: {name} is missing")
+    try:
+        return KeptState(state_dir, str(values["case"]), str(values["scale"]), int(values["seed"]),
+                         float(values["t_startup"]), int(values["step"]), str(values["command"]), values.get("commit"))
+    except (KeyError, TypeError, ValueError) as problem:
+        raise StateError(f"--from-state {state_dir}: {DESCRIPTION} lacks or mistypes {problem}") from None
+
+
+def unpack(state: KeptState, out: Path) -> Path:
+    """The state's restart file and fill variables into the run directory `out`; the restart file's path."""
+    restart = out / STATE_RESTART
+    with lzma.open(state.restart) as packed, open(restart, "wb") as unpacked:
+        shutil.copyfileobj(packed, unpacked)
+    shutil.copyfile(state.path / FILL_VARS, out / FILL_VARS)
+    return restart
+
+
+def _restart_step(run_dir: Path, t_startup: float) -> int:
+    """The time step the state was written at: the last of the start-up run's thermo rows (the case
+    writes state.restart right after that run), checked against the start-up time."""
+    blocks = parse_thermo((run_dir / "log.lammps").read_text(errors="replace"))
+    if len(blocks) < 2:
+        raise StateError(f"{run_dir / 'log.lammps'}: no start-up run followed by a sampling run")
+    step, time = int(blocks[0]["Step"][-1]), float(blocks[0]["Time"][-1])
+    if not math.isclose(time, t_startup, rel_tol=1e-5):
+        raise StateError(f"{run_dir / 'log.lammps'}: the start-up ends at t = {time:g} s, not at t_startup = {t_startup:g} s")
+    return step
+
+
+def keep(run_dir: Path, state_dir: Path) -> KeptState:
+    """Compress the state a run wrote (-v write_state 1) into `state_dir`, with its description."""
+    restart = run_dir / STATE_RESTART
+    if not restart.is_file():
+        raise StateError(f"{run_dir}: no {STATE_RESTART} (run the case with -v write_state 1)")
+    params = json.loads((run_dir / "params.json").read_text())
+    if params["case"] != "periodic":
+        raise StateError(f"{run_dir}: a {params['case']} run; kept states are periodic runs")
+    state_dir.mkdir(parents=True, exist_ok=True)
+    with open(restart, "rb") as plain, lzma.open(state_dir / f"{STATE_RESTART}.xz", "wb", preset=6) as packed:
+        shutil.copyfileobj(plain, packed)
+    shutil.copyfile(run_dir / FILL_VARS, state_dir / FILL_VARS)
+    variables = params["variables"]
+    command = (f"tsg-run-case periodic --scale {params['scale']} --seed {params['seed']} --np {params['np']} "
+               f"--out RUN -v t_startup {variables['t_startup']} -v t_sample {variables['t_sample']} -v write_state 1; "
+               f"python -m tsg_cases.states keep RUN {state_dir}")
+    description = {"case": params["case"], "scale": params["scale"], "seed": params["seed"],
+                   "t_startup": float(variables["t_startup"]),
+                   "step": _restart_step(run_dir, float(variables["t_startup"])),
+                   "command": command, "commit": params.get("git_commit")}
+    (state_dir / DESCRIPTION).write_text(json.dumps(description, indent=1) + "\n")
+    return read(state_dir)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m tsg_cases.states", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    commands = parser.add_subparsers(dest="command", required=True)
+    keeping = commands.add_parser("keep", help="compress a run's state.restart into a state directory")
+    keeping.add_argument("run_dir", type=Path)
+    keeping.add_argument("state_dir", type=Path)
+    args = parser.parse_args(argv)
+    try:
+        state = keep(args.run_dir, args.state_dir)
+    except StateError as problem:
+        print(f"python -m tsg_cases.states: {problem}", file=sys.stderr)
+        return 1
+    print(f"kept {state.case} {state.scale} seed {state.seed} at t = {state.t_startup:g} s (step {state.step}) in "
+          f"{state.path} ({state.restart.stat().st_size / 1e6:.2f} MB)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
