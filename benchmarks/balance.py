@@ -1,4 +1,4 @@
-"""Particle imbalance and wall time with and without fix balance/x (docs/parallel.md), side by side
+"""Particle imbalance and wall time with and without fix balance/x (docs/performance.md), side by side
 in one invocation: the same case, seed and length run with equal slabs (balance_every 0) and with
 moving cuts, alternately, for each rank count.
 

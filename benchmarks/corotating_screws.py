@@ -13,8 +13,8 @@
 2. The whole step of the periodic demo case (cases/run_case.py periodic --scale demo) with either
    drive (cases/include/screws_*.in: the corotating one also takes the barrel through its static
    look-up) over the same short run.
-Prints the measured numbers; not a test (the numbers depend on the machine; README and
-docs/rotating-screws.md quote what it printed).
+Prints the measured numbers; not a test (the numbers depend on the machine; docs/performance.md
+quotes what it printed).
 """
 from __future__ import annotations
 

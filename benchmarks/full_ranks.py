@@ -11,7 +11,7 @@ ms/step (LIGGGHTS' loop time over the chunks after the first, median and range o
 speed-up against 1 rank, and LIGGGHTS' share of the loop in fixes ("Other"; LIGGGHTS 3.8 counts the
 fixes there). --baseline adds the balanced multi-rank rows of another lmp (e.g. one built without
 src-liggghts-eepa/patches/fix-mesh-cpp.patch) to the same table. This is the measurement behind
-docs/parallel.md, "Static meshes and moving cuts".
+docs/performance.md, "Static meshes and moving cuts".
 Not a test: wall-clock numbers depend on the machine and its load (recorded in the output).
 """
 from __future__ import annotations

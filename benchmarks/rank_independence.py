@@ -1,4 +1,4 @@
-"""Rank-count independence of the per-element results (issue 17 item 4, docs/parallel.md): the
+"""Rank-count independence of the per-element results (docs/performance.md): the
 periodic demo case from one fill (one --seed) run on 1, 2, 4 and 8 ranks, each compared with the
 1-rank run quantity by quantity (mass flows, residence times, solid fraction per element):
 difference ± 95 % interval from tsg_analysis.uncertainty (docs/statistics.md).

@@ -1,7 +1,7 @@
 """Two-sphere EEPA contact cases run with lmp (inputs in cases/contact/) and independent reference
 values, for the LIGGGHTS-level EEPA tests (tests/eepa) and the figures of scripts/eepa_docs.py.
 
-The reference law here is written from the formulas in docs/eepa.md (Thakur et al. 2014), not
+The reference law here is written from the formulas in docs/model.md (Thakur et al. 2014), not
 from the C++ code, so that a test compares two independent computations.
 """
 from __future__ import annotations
@@ -54,7 +54,7 @@ class Eepa:
 
 class ReferenceContact:
     """EEPA hysteretic force of one contact, evaluated step by step along its overlap path
-    (docs/eepa.md, Thakur 2014 eqs. for the three branches; pull-off from the plastic overlap at
+    (docs/model.md, Thakur 2014 eqs. for the three branches; pull-off from the plastic overlap at
     the largest overlap). A new contact, and one whose overlap has gone to zero, is virgin."""
 
     def __init__(self, law: Eepa, effective_radius: float = R_EFF) -> None:
@@ -99,7 +99,7 @@ def reference_force(overlaps: np.ndarray, law: Eepa) -> np.ndarray:
 
 def closed_form_restitution(plasticity_ratio: float, slope_exponent: float) -> float:
     """Undamped, non-adhesive: e^2 = work returned on k2 / work done on k1
-    = [1 - (n+1) λ + n λ^(1+1/n)] / (1 - λ)  (derived in docs/eepa-law.md)."""
+    = [1 - (n+1) λ + n λ^(1+1/n)] / (1 - λ)  (derived in docs/model.md, "Restitution")."""
     lam, n = plasticity_ratio, slope_exponent
     return math.sqrt((1 - (n + 1) * lam + n * lam ** (1 + 1 / n)) / (1 - lam))
 

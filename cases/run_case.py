@@ -43,7 +43,7 @@ CONFIGS = {"periodic": "consigma1-periodic", "nonperiodic": "consigma1-nonperiod
 # 2 cores (docs/cases.md explains the choices); paper: the seed paper's 400 um particles. Both with
 # the mesh tolerance at 1 % of the smallest radius (demo 0.42 mm -> 4 um, paper 0.1 mm -> 1 um).
 SCALES: dict[str, dict[str, Any]] = {
-    # demo: a clearance-scaled machine (docs/stability-demo.md). The paper's gaps (0.44 mm tip to
+    # demo: a clearance-scaled machine (docs/geometry.md). The paper's gaps (0.44 mm tip to
     # barrel; 0.35 mm screw to screw in a section, 0.17 mm in 3D between conveying flights) are far
     # smaller than the demo's 1 mm particles (largest 1.16 mm), so a prescribed screw pinches them
     # whatever the contact law; and where two staggered discs meet, screw 1's disc and screw 2's
@@ -79,7 +79,7 @@ def machine_clearances(gap_factor: float | None, d_mean: float, psd_sigma: float
     the paper's machine for gap_factor None, else gap = gap_factor x the largest particle of the
     PSD, rounded up to 0.1 mm, for the tip and the spacer, and 2 x gap in the section between the
     screws (the 3D gap between conveying flights is 0.51-0.52 x the section gap, measured:
-    docs/stability-demo.md). --clearances replaces all three."""
+    docs/geometry.md). --clearances replaces all three."""
     if gap_factor is None:
         return None, None, 0.0
     largest = d_mean * float(size_classes(psd_sigma, PSD_CLASSES)[0].max())

@@ -58,7 +58,7 @@ def figure(workdir: Path, out: Path) -> None:
     overlap, force, expected = overlap[near], force[near], expected[near]
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(overlap * 1e6, force * 1e3, lw=1.5, label="lmp, pair_style gran model eepa")
-    ax.plot(overlap * 1e6, expected * 1e3, "k:", lw=1, label="law (docs/eepa.md)")
+    ax.plot(overlap * 1e6, expected * 1e3, "k:", lw=1, label="law (docs/model.md)")
     ax.axhline(law.pull_off_force * 1e3, color="grey", lw=0.5)
     ax.set_xlabel("overlap δ (μm)")
     ax.set_ylabel("normal force f (mN)")

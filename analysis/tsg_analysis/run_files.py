@@ -1,6 +1,6 @@
 """Readers for the measurement files our LIGGGHTS cases write into a run directory.
 
-Formats (fixed by the team, see docs/analysis.md): zones.txt, residence.txt, elements.txt
+Formats (fixed by the team, see docs/measurement.md): zones.txt, residence.txt, elements.txt
 (stock `fix ave/time ... mode vector`), massflow.txt, squeezes.txt (fix squeeze/ledger). Every reader raises AnalysisInputError with
 the file and line for input it cannot use. A last line without its newline is the normal state of
 a file whose writer was killed or is still running: it is dropped and said so in `issues`.

@@ -148,7 +148,7 @@ def profile_for_clearance(barrel_clearance: float | None, screw_clearance: float
     r_i = a - r_a - c_screw, so the Booy profile is self-wiping at a - c_screw and the two screws, a
     apart, keep c_screw between them in every axial section (the wiping contact's common normal is
     parallel to the line of centres). In 3D a helical flight's normal leans out of the section, so
-    the gap between conveying flights is smaller than c_screw (docs/stability-demo.md)."""
+    the gap between conveying flights is smaller than c_screw (docs/geometry.md)."""
     if barrel_clearance is None and screw_clearance is None:
         return ScrewProfile()
     if barrel_clearance is None:

@@ -1,5 +1,5 @@
 """Time series of chosen particles from LAMMPS text dumps (`dump custom` with id type x y z vx vy vz
-fx fy fz omegax omegay omegaz radius), for tracing a guard stop (docs/stability-demo.md).
+fx fy fz omegax omegay omegaz radius), for tracing a squeeze release (docs/stability.md).
 
     .venv/bin/python studies/stability/pinch-trace.py 'DUMP_GLOB' ID [ID ...] --dt SECONDS --machine RUN_DIR/machine.in \
         --length L > trace.csv

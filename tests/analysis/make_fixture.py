@@ -1,4 +1,4 @@
-"""Write a small synthetic run directory in exactly the output formats of docs/analysis.md.
+"""Write a small synthetic run directory in exactly the output formats of docs/measurement.md.
 
     python tests/analysis/make_fixture.py <run_dir> [--kind periodic|full] [--not-steady] [--dumps txt|vtk|none]
 
@@ -210,7 +210,7 @@ def _log_text(particles: int, warnings: bool) -> str:
 
 
 def _params(kind: str, seed: int, rpm: float) -> dict:
-    """What the case runner records in params.json (the contract in docs/analysis.md)."""
+    """What the case runner records in params.json (the contract in docs/measurement.md)."""
     return {"case": kind, "scale": "synthetic", "seed": seed, "np": 1,
             "variables": {"rpm": f"{rpm:g}", "rho_p": f"{DENSITY:g}", "d_mean": f"{D_MEAN:g}"},
             "rpm": rpm, "rho_p": DENSITY, "d_mean": D_MEAN, "mesh_dir": "meshes", "zones_file": "zones.txt",

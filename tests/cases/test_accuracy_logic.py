@@ -98,7 +98,7 @@ def test_sampling_point_error_is_its_bias_plus_its_own_half_width():
 
 @pytest.mark.parametrize("tolerance, expected", [("5%", FAILS), ("15%", UNDECIDED), ("20%", MEETS)])
 def test_biased_short_window_cannot_meet_a_tolerance_its_mean_contradicts(tolerance, expected):
-    # docs/accuracy/demo-replicas: sampling 0.25, domain flux 5.483 ± 0.075 kg/h (3 replicas) against the
+    # studies/accuracy/demo-replicas: sampling 0.25, domain flux 5.483 ± 0.075 kg/h (3 replicas) against the
     # reference's whole record 4.76 ± 0.15 kg/h: +15 %. Its half-width alone (1.4 %) would "meet" 5 %.
     reference = Estimate(4.76, 0.035, 300, 3.0, 0.15, replicas=3, method="replica means")
     point = Estimate(5.483, 0.0175, 75, 3.0, 0.075, replicas=3, method="replica means")

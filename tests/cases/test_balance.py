@@ -146,7 +146,7 @@ def test_moving_cuts_change_no_force(tmp_path, periodic_meshes, drive):
     on which it re-neighbours and on LIGGGHTS treating the sub-domains as changing (what the fix asks
     for), not on the cuts: measured, a 1-rank run with the fix forced to act as on 4 ranks (no cut to
     move) differs from the plain 1-rank run by the same 1.738e-10 relative as the 4-rank balanced run
-    does (docs/parallel.md); the bound is the one test_corotating.py allows the stock path."""
+    does (docs/performance.md); the bound is the one test_corotating.py allows the stock path."""
     atoms = crowded_atoms(13)
     _, serial = run_screw_paths(tmp_path / "np1", periodic_meshes, atoms, drive=drive, nprocs=1, balance_every=0)
     run, balanced = run_screw_paths(tmp_path / "np4", periodic_meshes, atoms, drive=drive, nprocs=4,

@@ -9,7 +9,7 @@ DEMO = SCALES["demo"]["gap_factor"]
 
 def test_demo_gaps_are_the_largest_particle_times_1_2_rounded_up_to_a_tenth_of_a_millimetre():
     largest = float(size_classes(0.05, PSD_CLASSES)[0].max())        # relative to the mean diameter
-    assert 1.15 < largest < 1.17                                       # docs/stability-demo.md: 1.16 mm at 1 mm
+    assert 1.15 < largest < 1.17                                       # docs/geometry.md: 1.16 mm at 1 mm
     assert machine_clearances(DEMO, 1e-3, 0.05) == pytest.approx((1.4e-3, 2.8e-3, 1.4e-3), abs=1e-12)   # 1.39 -> 1.4
     assert machine_clearances(DEMO, 1.5e-3, 0.05) == pytest.approx((2.1e-3, 4.2e-3, 2.1e-3), abs=1e-12)  # 2.08 -> 2.1
 

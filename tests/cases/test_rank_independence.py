@@ -70,7 +70,7 @@ def test_restart_written_on_2_ranks_continues_on_4(tmp_path, periodic_meshes):
 
     Against the unbroken run both continuations differ by the same 2.2e-11 relative: measured also
     without fix balance/x and for 2 -> 2 ranks, so it is the restart of this scene, not the rank count
-    (docs/parallel.md); the continuation itself is test_corotating.py's business."""
+    (docs/performance.md); the continuation itself is test_corotating.py's business."""
     atoms = crowded_atoms(17)
     _, whole = run_screw_paths(tmp_path / "whole", periodic_meshes, atoms, drive="corotating", nprocs=2,
                                balance_every=25, restart_every=150)

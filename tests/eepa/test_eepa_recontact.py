@@ -1,9 +1,9 @@
 """EEPA contacts start fresh (issue 14 item 4).
 
 Two cohesive spheres collide head-on, separate, bounce off elastic Hertz walls and collide again.
-A contact that re-forms must start virgin (docs/eepa-law.md, "Separation"), whatever the
+A contact that re-forms must start virgin (docs/model.md, "Choice, separation"), whatever the
 neighbour-list settings: the second impact's rebound must equal an independent integration of a
-fresh contact (ReferenceContact, written from the formulas in docs/eepa.md) at the measured
+fresh contact (ReferenceContact, written from the formulas in docs/model.md) at the measured
 approach speed. With the history of the first impact kept, the second rebound is 19 % faster
 (worked out in `stale_history_changes_the_rebound` below), so the check can fail.
 """

@@ -1,5 +1,5 @@
 // Unit tests of the EEPA normal contact law (src-liggghts-eepa/physics/eepa_law.h).
-// Expected values are written from the equations of docs/eepa-law.md, never read back from the
+// Expected values are written from the equations of docs/model.md, never read back from the
 // code under test.
 #include <gtest/gtest.h>
 
@@ -417,7 +417,7 @@ TEST(EepaCoulombLoad, ThakurFormWithAdhesionCappedAtFmin)
 // --------------------------------------------------------------------------------------------
 
 // e^2 = work returned on k2 / work done on k1 =
-//       [1 - (n+1) lambda_p + n lambda_p^(1+1/n)] / (1 - lambda_p)    (docs/eepa-law.md)
+//       [1 - (n+1) lambda_p + n lambda_p^(1+1/n)] / (1 - lambda_p)    (docs/model.md)
 TEST(EepaRestitution, ClosedFormValues)
 {
   for (double lambda : {0.0, 0.1, 0.5, 0.8, 0.99})
