@@ -255,7 +255,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--out {args.out}: cannot write there ({problem.strerror})") from None
     if state is not None:
         variables["restart_file"] = states.unpack(state, out)
-    preparing = Heartbeat(f"{args.case} case: meshes and {'fill' if args.case == 'periodic' else 'feed regions'}").start()
+    preparing = Heartbeat(f"{args.case} case: meshes and "
+                          f"{'the kept state' if state else 'fill' if args.case == 'periodic' else 'feed regions'}").start()
 
     clearances = tuple(args.clearances) if args.clearances else \
         machine_clearances(scale["gap_factor"], float(effective["d_mean"]), float(effective.get("psd_sigma", 0.05)))
@@ -264,7 +265,9 @@ def run(args: argparse.Namespace) -> int:
     length = float(zones.x_end[-1])
     d_mean = float(effective["d_mean"])
     rho_p = float(effective["rho_p"])        # one source: materials.in's default or -v rho_p
-    if args.case == "periodic":
+    if state is not None:   # the particles are the state's: no fill to place
+        what = f"the kept state {state.path} (fill seed {state.seed}, t = {state.t_startup:g} s, step {state.step})"
+    elif args.case == "periodic":
         holdup = (args.holdup_g or DEFAULT_HOLDUP_G) * 1e-3
         include, data = prepared.fill_files(mesh_dir, d_mean, float(effective.get("psd_sigma", 0.05)), rho_p,
                                             holdup * 1e3, DEFAULT_FILL_SEED if args.seed is None else args.seed)

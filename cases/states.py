@@ -79,15 +79,14 @@ def unpack(state: KeptState, out: Path) -> Path:
 
 
 def _restart_step(run_dir: Path, t_startup: float) -> int:
-    """The time step the state was written at: the last of the start-up run's thermo rows (the case
-    writes state.restart right after that run), checked against the start-up time."""
-    blocks = parse_thermo((run_dir / "log.lammps").read_text(errors="replace"))
-    if len(blocks) < 2:
-        raise StateError(f"{run_dir / 'log.lammps'}: no start-up run followed by a sampling run")
-    step, time = int(blocks[0]["Step"][-1]), float(blocks[0]["Time"][-1])
-    if not math.isclose(time, t_startup, rel_tol=1e-5):
-        raise StateError(f"{run_dir / 'log.lammps'}: the start-up ends at t = {time:g} s, not at t_startup = {t_startup:g} s")
-    return step
+    """The time step the state was written at: the thermo row at the end of the start-up (the case
+    writes state.restart right after its start-up run, which ends on a thermo row)."""
+    rows = [(int(step), float(time)) for block in parse_thermo((run_dir / "log.lammps").read_text(errors="replace"))
+            for step, time in zip(block["Step"], block["Time"])]
+    at_end = [step for step, time in rows if math.isclose(time, t_startup, rel_tol=1e-5)]
+    if not at_end:
+        raise StateError(f"{run_dir / 'log.lammps'}: no thermo row at the end of the start-up, t_startup = {t_startup:g} s")
+    return at_end[0]
 
 
 def keep(run_dir: Path, state_dir: Path) -> KeptState:
