@@ -22,6 +22,9 @@
 #include "tri_mesh.h"
 #include "update.h"
 
+#include "gather.h"
+#include "numbers.h"
+
 using namespace LAMMPS_NS;
 using namespace FixConst;
 namespace rot = ::tsg::rotation;
@@ -29,8 +32,7 @@ namespace tmesh = ::tsg::trimesh;
 
 namespace {
 constexpr int kValuesPerTriangle = 32;  // id, nodes 9, edge units 9, edge lengths 3, normal 3, obtuse, active 6
-constexpr int kLoadValues = 6;
-constexpr int kOutputsPerScrew = 7;  // load values and the angle
+constexpr int kOutputsPerScrew = 7;     // load values and the angle
 // an empty candidate list stays valid for at most this many list skins of motion (a choice, not
 // tuned: docs/performance.md)
 constexpr double kFarMargins = 16.0;
@@ -43,13 +45,6 @@ constexpr double kCoplanarCurvature = 1.0 - 1e-5;
 // a corotating screw must be (close to) symmetric about its axis: the area centroid of its surface
 // may lie at most this fraction of its largest radius from the axis
 constexpr double kAxisTolerance = 0.01;
-
-std::string number(double v)
-{
-  char buf[32];
-  snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 }  // namespace
 
 // The arguments of fix wall/gran end where the first keyword of this fix starts.
@@ -139,9 +134,8 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
     }
     if (key == "list_skin") {
       if (iarg + 2 > narg) fail("list_skin needs a value");
-      char *end = nullptr;
-      const double v = strtod(arg[iarg + 1], &end);
-      if (*end != '\0' || !(v > 0.0) || !std::isfinite(v))
+      double v = 0.0;
+      if (!tsg::scan_real(arg[iarg + 1], v) || !(v > 0.0) || !std::isfinite(v))
         fail(std::string("list_skin = ") + arg[iarg + 1] + " is not allowed: a length > 0 (m)");
       list_skin_ = v;
       iarg += 2;
@@ -149,9 +143,8 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
     }
     if (key == "max_contacts") {
       if (iarg + 2 > narg) fail("max_contacts needs a value");
-      char *end = nullptr;
-      const long k = strtol(arg[iarg + 1], &end, 10);
-      if (*end != '\0' || k < 1 || k > 1000)
+      long k = 0;
+      if (!tsg::parse_integer(arg[iarg + 1], 1, 1000, k))
         fail(std::string("max_contacts = ") + arg[iarg + 1] + " is not allowed: an integer from 1 to 1000");
       max_contacts_ = static_cast<int>(k);
       iarg += 2;
@@ -188,9 +181,8 @@ void FixWallGranCorotating::parse_corotate(int narg, char **arg, int iarg)
     if (strcmp(arg[iarg + 2], "origin") || strcmp(arg[iarg + 6], "axis") || strcmp(arg[iarg + 10], "period"))
       fail("corotate " + s.mesh_id + ": expected 'origin x y z axis ax ay az period T'");
     auto value = [&](int k, const char *what) {
-      char *end = nullptr;
-      const double v = strtod(arg[k], &end);
-      if (*end != '\0' || !std::isfinite(v))
+      double v = 0.0;
+      if (!tsg::scan_real(arg[k], v) || !std::isfinite(v))
         fail("corotate " + s.mesh_id + ": " + what + " = '" + arg[k] + "' is not a finite number");
       return v;
     };
@@ -266,12 +258,7 @@ void FixWallGranCorotating::gather_triangles(Screw &screw)
     mesh->surfaceNorm(i, v + 22);
     v[25] = obtuse->get(i);
   }
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  for (int p = 1; p < comm->nprocs; ++p) displs[p] = displs[p - 1] + counts[p - 1];
-  std::vector<double> all(displs.back() + counts.back());
-  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+  const std::vector<double> all = tsg::gather_to_all(world, mine, comm->nprocs);
 
   const size_t ntri = all.size() / kValuesPerTriangle;
   if (ntri == 0) fail("mesh '" + screw.mesh_id + "' has no triangles");
@@ -365,9 +352,8 @@ void FixWallGranCorotating::end_of_step()
 // steps (1 when the dumps are off: end_of_step then returns at once).
 void FixWallGranCorotating::set_screw_dump(const char *every, const char *prefix)
 {
-  char *end = nullptr;
-  const long n = strtol(every, &end, 10);
-  if (*end != '\0' || n < 0 || n > MAXSMALLINT)
+  long n = 0;
+  if (!tsg::parse_integer(every, 0, MAXSMALLINT, n))
     fail(std::string("screw_dump every = ") + every + " is not allowed: an integer >= 0 (0: no dumps)");
   dump_every_ = static_cast<int>(n);
   dump_prefix_ = prefix;
@@ -796,17 +782,17 @@ void FixWallGranCorotating::clean_up_contacts()
 
 std::string FixWallGranCorotating::wall_name(int wall) const { return mesh_list()[wall]->id; }
 
-bool FixWallGranCorotating::handles_mesh(const std::string &mesh_id) const
+const FixWallGranCorotating::Screw *FixWallGranCorotating::screw_of_wall(int wall) const
 {
   for (const Screw &s : screws_)
-    if (s.mesh_id == mesh_id) return true;
-  return false;
+    if (s.list_index == wall) return &s;
+  return nullptr;
 }
 
-FixWallGranCorotating::DeepestContact FixWallGranCorotating::take_deepest(const std::string &mesh_id)
+tsg::WallContactSource::DeepestContact FixWallGranCorotating::take_deepest(int wall)
 {
   for (Screw &s : screws_)
-    if (s.mesh_id == mesh_id) {
+    if (s.list_index == wall) {
       const DeepestContact deepest = s.deepest;
       s.deepest = DeepestContact{};
       return deepest;
@@ -814,18 +800,19 @@ FixWallGranCorotating::DeepestContact FixWallGranCorotating::take_deepest(const 
   return DeepestContact{};
 }
 
-std::vector<std::string> FixWallGranCorotating::meshes_touched(int i) const
+// the meshes of the contact keys particle i holds (its contacts at the last force evaluation)
+unsigned FixWallGranCorotating::walls_in_contact(int i) const
 {
-  std::vector<std::string> touched;
+  unsigned walls = 0;
   for (const Screw &s : screws_)
     for (int k = 0; k < max_contacts_; ++k) {
       const int key = contact_key_[i][k];
       if (key >= s.key_offset && key < s.key_offset + static_cast<int>(s.triangles.size())) {
-        touched.push_back(s.mesh_id);
+        walls |= 1u << s.list_index;
         break;
       }
     }
-  return touched;
+  return walls;
 }
 
 // [7 s + 0..2]: force on screw s (N); [7 s + 3..5]: torque on it about its origin (N m);
