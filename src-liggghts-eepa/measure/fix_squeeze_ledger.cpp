@@ -410,34 +410,10 @@ void FixSqueezeLedger::flush()
 
 double FixSqueezeLedger::compute_vector(int n)
 {
-  switch (n) {
-    case 0:
-      return events_;
-    case 1:
-      return pressed_now_;
-    case 2:
-      return distinct_;
-    case 3:
-      return peak_wall_;
-    case 4:
-      return peak_pair_;
-    case 5:
-      return max_release_;
-    case 6:
-      return crossings_;
-    case 7:
-      return work_walls_;
-    case 8:
-      return work_gravity_;
-    case 9:
-      return kinetic_;
-    case 10:
-      return budget_ - kinetic_;
-    case 11:
-      return excess();
-    default:
-      return released_;
-  }
+  const double values[] = {events_,    pressed_now_, distinct_,     peak_wall_, peak_pair_,         max_release_,
+                           crossings_, work_walls_,  work_gravity_, kinetic_,   budget_ - kinetic_, excess(),
+                           released_};
+  return values[std::min(n, static_cast<int>(sizeof values / sizeof values[0]) - 1)];
 }
 
 // global state: a format mark, the counters, the energy budget and the clock
