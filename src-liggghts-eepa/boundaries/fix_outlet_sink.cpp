@@ -9,22 +9,24 @@
 #include "domain.h"
 #include "update.h"
 
-#include "measure_common.h"
+#include "box_checks.h"
+#include "errors.h"
+#include "numbers.h"
 
 using namespace LAMMPS_NS;
-using tsg::measure::fail;
-using tsg::measure::number;
+using tsg::fail;
+using tsg::number;
 
 FixOutletSink::FixOutletSink(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), who_(std::string("fix ") + id + " outlet/sink"), outlet_x_(0)
 {
-  if (narg != 5 || std::string(arg[3]) != "x" || !tsg::measure::parse_real(arg[4], outlet_x_))
+  if (narg != 5 || std::string(arg[3]) != "x" || !tsg::parse_real(arg[4], outlet_x_))
     fail(lmp, who_,
          std::string("needs 'x X', the outlet plane's position along the axis in m, got '") + (narg > 3 ? arg[3] : "") +
              (narg > 4 ? std::string(" ") + arg[4] : "") + (narg > 5 ? " ..." : "") + "'");
   if (domain->periodicity[0])
     fail(lmp, who_, "the x axis is periodic: particles never leave it, there is no outlet to remove them at");
-  if (!tsg::measure::fixed_box_x(domain))
+  if (!tsg::fixed_box_x(domain))
     fail(lmp, who_, "the box along x is shrink-wrapped: give it fixed ends (boundary f ...) to place the outlet in");
   if (!(outlet_x_ > domain->boxlo[0] && outlet_x_ < domain->boxhi[0]))
     fail(lmp, who_,

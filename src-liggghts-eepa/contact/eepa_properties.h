@@ -24,6 +24,7 @@
 #include "property_registry.h"
 
 #include "eepa_law.h"
+#include "numbers.h"
 
 namespace tsg {
 
@@ -91,7 +92,7 @@ private:
         std::string problem;
         const double multiplier = tangential_multiplier_[i][j];
         if (!(multiplier > 0 && std::isfinite(multiplier))) {
-          problem = std::string(kTangentialMultiplier) + " = " + tsg::eepa::detail::format_number(multiplier) +
+          problem = std::string(kTangentialMultiplier) + " = " + tsg::number(multiplier, tsg::NumberKind::parameter) +
                     " is outside the allowed range (0, inf)";  // formatted as the law formats the others
         } else {
           try {

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -17,13 +16,14 @@
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
-#include "neigh_list.h"
-#include "pair.h"
 #include "tri_mesh.h"
 #include "update.h"
 
 #include "contact_timestep.h"
-#include "fix_wall_gran_corotating.h"
+#include "errors.h"
+#include "numbers.h"
+#include "pair_contacts.h"
+#include "wall_contact_source.h"
 
 using namespace LAMMPS_NS;
 
@@ -32,12 +32,8 @@ namespace {
 constexpr int kFixedOutputs = 5;      // pair δ/R run and now, estimate, dt/estimate, speed
 constexpr int kFastEventsNamed = 10;  // fast_speed events named in the log; the rest are counted
 
-std::string number(double v)
-{
-  char text[32];
-  snprintf(text, sizeof text, "%.4g", v);
-  return text;
-}
+// numbers in the guards' messages: 4 significant digits (numbers.h)
+std::string number(double v) { return tsg::number(v, tsg::NumberKind::guard); }
 
 struct ValueRank {  // layout of MPI_DOUBLE_INT
   double value;
@@ -50,7 +46,7 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), check_every_(1000), step_fraction_(0.2), error_on_violation_(true), warned_(false),
       max_speed_(0), fast_speed_(0), above_fast_(nullptr), fast_events_(0), fast_events_local_(0),
       fast_events_named_(0), fast_event_to_name_(-1), max_pair_overlap_(0), max_wall_overlap_(0), walls_(nullptr),
-      corotating_walls_(nullptr), max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), max_speed_squared_window_(0),
+      contact_source_(nullptr), max_overlap_ratio_run_(0), max_overlap_ratio_now_(0), max_speed_squared_window_(0),
       max_speed_now_(0), estimate_(0), youngs_modulus_(nullptr), poisson_ratio_(nullptr), plasticity_ratio_(nullptr)
 {
   // every keyword is validated here, each with one message naming it, its value and what is allowed
@@ -58,28 +54,24 @@ FixCheckContact::FixCheckContact(LAMMPS *lmp, int narg, char **arg)
     error->fix_error(FLERR, this, message.c_str());
   };
   auto positive_number = [&](const std::string &key, const char *value, const char *allowed) {
-    char *end = nullptr;
-    const double number = strtod(value, &end);
-    if (end == value || *end != '\0') fail(key + " = " + value + " is not a number");
+    double number = 0;
+    if (!tsg::scan_real(value, number)) fail(key + " = " + value + " is not a number");
     if (!(number > 0 && std::isfinite(number))) fail(key + " = " + value + " is outside the allowed range " + allowed);
     return number;
+  };
+  auto positive_integer = [&](const std::string &key, const char *value) {
+    long every = 0;
+    if (!tsg::parse_integer(value, 1, 1000000000, every)) fail(key + " = " + value + " must be a positive integer");
+    return static_cast<int>(every);
   };
   for (int iarg = 3; iarg < narg; iarg += 2) {
     if (iarg + 1 >= narg) fail(std::string("keyword '") + arg[iarg] + "' needs a value");
     const std::string key = arg[iarg];
     const char *value = arg[iarg + 1];
     if (key == "every") {
-      char *end = nullptr;
-      const long every = strtol(value, &end, 10);
-      if (end == value || *end != '\0' || every < 1 || every > 1000000000)
-        fail(std::string("every = ") + value + " must be a positive integer");
-      check_every_ = static_cast<int>(every);
+      check_every_ = positive_integer(key, value);
     } else if (key == "pair_every") {
-      char *end = nullptr;
-      const long every = strtol(value, &end, 10);
-      if (end == value || *end != '\0' || every < 1 || every > 1000000000)
-        fail(std::string("pair_every = ") + value + " must be a positive integer");
-      pair_every_ = static_cast<int>(every);
+      pair_every_ = positive_integer(key, value);
     } else if (key == "step_fraction") {
       step_fraction_ = positive_number(key, value, "(0, 1]");
       if (step_fraction_ > 1) fail(std::string("step_fraction = ") + value + " is outside the allowed range (0, 1]");
@@ -199,13 +191,13 @@ void FixCheckContact::init()
   plasticity_ratio_ = static_cast<FixPropertyGlobal *>(
       modify->find_fix_property("plasticityRatio", "property/global", "peratomtypepair", ntypes, ntypes, style, false));
   walls_ = nullptr;
-  corotating_walls_ = nullptr;
+  contact_source_ = nullptr;
   if (!wall_fix_id_.empty()) {
     const int index = modify->find_fix(wall_fix_id_.c_str());
     walls_ = index < 0 ? nullptr : dynamic_cast<FixWallGran *>(modify->fix[index]);
     if (!walls_ || walls_->n_meshes() != static_cast<int>(mesh_ids_.size()))
       error->fix_error(FLERR, this, ("walls = " + wall_fix_id_ + ": the wall fix was deleted or replaced").c_str());
-    corotating_walls_ = dynamic_cast<FixWallGranCorotating *>(walls_);
+    contact_source_ = dynamic_cast<tsg::WallContactSource *>(walls_);
   }
 }
 
@@ -363,14 +355,12 @@ void FixCheckContact::check_motion()
                 contacts_of(fast_event_to_name_) +
                 " (counted, not stopped: a release from a squeeze, docs/stability.md)";
   }
-  if (worst[0] > 1) stop_at(worst[1], message);
-  char text[1024] = {0};
-  if (comm->me == worst[1]) strncpy(text, message.c_str(), sizeof text - 1);
-  MPI_Bcast(text, sizeof text, MPI_CHAR, worst[1], world);
+  if (worst[0] > 1) tsg::fail_from(lmp, worst[1], message);
+  const std::string text = tsg::broadcast_text(world, message, worst[1]);
   ++fast_events_named_;
   if (comm->me == 0) {
-    if (screen) fprintf(screen, "%s\n", text);
-    if (logfile) fprintf(logfile, "%s\n", text);
+    if (screen) fprintf(screen, "%s\n", text.c_str());
+    if (logfile) fprintf(logfile, "%s\n", text.c_str());
   }
 }
 
@@ -379,28 +369,15 @@ void FixCheckContact::check_motion()
 FixCheckContact::Deepest FixCheckContact::deepest_pair_contact(int only_atom) const
 {
   Deepest deepest;
-  const NeighList *list = force->pair->list;
-  if (!list) return deepest;
-  double **x = atom->x;
-  const double *radius = atom->radius;
   const int *mask = atom->mask;
-  for (int ii = 0; ii < list->inum; ++ii) {
-    const int i = list->ilist[ii];
-    if (!(mask[i] & groupbit)) continue;
-    const int *neighbours = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; ++jj) {
-      const int j = neighbours[jj] & NEIGHMASK;
-      if (only_atom >= 0 && i != only_atom && j != only_atom) continue;
-      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-      const double overlap = radius[i] + radius[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
-      if (!(overlap > 0)) continue;
-      const double ratio = overlap / std::min(radius[i], radius[j]);
-      if (ratio > deepest.overlap_ratio) {
-        const bool i_first = only_atom < 0 || i == only_atom;
-        deepest = {ratio, atom->tag[i_first ? i : j], atom->tag[i_first ? j : i]};
-      }
+  const tagint *tag = atom->tag;
+  tsg::for_each_pair_contact(lmp, [&](int i, int j, double ratio) {
+    if (!(mask[i] & groupbit) || (only_atom >= 0 && i != only_atom && j != only_atom)) return;
+    if (ratio > deepest.overlap_ratio) {
+      const bool i_first = only_atom < 0 || i == only_atom;
+      deepest = {ratio, tag[i_first ? i : j], tag[i_first ? j : i]};
     }
-  }
+  });
   return deepest;
 }
 
@@ -437,13 +414,11 @@ std::string FixCheckContact::contacts_of(int i) const
                                            " at overlap/radius " + number(pair.overlap_ratio)
                                      : std::string("no particle contact");
   if (!walls_) return text;
-  std::vector<std::string> touched;
-  if (corotating_walls_) touched = corotating_walls_->meshes_touched(i);
+  const unsigned touched = contact_source_ ? contact_source_->walls_in_contact(i) : 0u;
   std::string walls;
   for (size_t k = 0; k < mesh_ids_.size(); ++k) {
-    if (corotating_walls_ && corotating_walls_->handles_mesh(mesh_ids_[k])) {
-      if (std::find(touched.begin(), touched.end(), mesh_ids_[k]) != touched.end())
-        walls += (walls.empty() ? "" : ", ") + mesh_ids_[k];
+    if (reported(static_cast<int>(k))) {
+      if (touched & (1u << k)) walls += (walls.empty() ? "" : ", ") + mesh_ids_[k];
       continue;
     }
     const Deepest wall = deepest_stock_wall_contact(static_cast<int>(k), i);
@@ -468,7 +443,7 @@ void FixCheckContact::check_pair_overlap()
               std::to_string(static_cast<long long>(mine.partner_id)) + " overlap by " + number(mine.overlap_ratio) +
               " of the smaller radius, above max_pair_overlap = " + number(max_pair_overlap_) +
               " (not physics: particles crushed, or a time step too large)";
-  stop_at(global.rank, message);
+  tsg::fail_from(lmp, global.rank, message);
 }
 
 void FixCheckContact::check_wall_overlap()
@@ -478,9 +453,9 @@ void FixCheckContact::check_wall_overlap()
   std::vector<Deepest> mine(nmeshes);
   std::vector<ValueRank> local(nmeshes), global(nmeshes);
   for (size_t k = 0; k < nmeshes; ++k) {
-    if (corotating_walls_ && corotating_walls_->handles_mesh(mesh_ids_[k])) {
-      const FixWallGranCorotating::DeepestContact deepest = corotating_walls_->take_deepest(mesh_ids_[k]);
-      mine[k] = {deepest.overlap_ratio, deepest.atom_id, 0};
+    if (reported(static_cast<int>(k))) {
+      const tsg::WallContactSource::DeepestContact deepest = contact_source_->take_deepest(static_cast<int>(k));
+      mine[k] = {deepest.overlap_ratio, static_cast<tagint>(deepest.atom_id), 0};
     } else {
       mine[k] = deepest_stock_wall_contact(static_cast<int>(k), -1);
     }
@@ -498,18 +473,8 @@ void FixCheckContact::check_wall_overlap()
                 number(mine[k].overlap_ratio) +
                 " of its radius, above max_wall_overlap = " + number(max_wall_overlap_) +
                 " (a particle pushed into the wall: crushed in a clearance, or too fast)";
-    stop_at(global[k].rank, message);
+    tsg::fail_from(lmp, global[k].rank, message);
   }
-}
-
-// Stop every rank with the message composed on `rank`.
-void FixCheckContact::stop_at(int rank, const std::string &message)
-{
-  char text[1024] = {0};
-  if (comm->me == rank) strncpy(text, message.c_str(), sizeof text - 1);
-  MPI_Bcast(text, sizeof text, MPI_CHAR, rank, world);
-  error->all(FLERR, text);
-  throw;  // not reached: error->all exits
 }
 
 double FixCheckContact::compute_vector(int n)

@@ -44,6 +44,8 @@ FixStyle(check/contact,FixCheckContact)
 
 #include "fix.h"
 
+#include "wall_contact_source.h"
+
 namespace LAMMPS_NS {
 
 class FixCheckContact : public Fix {
@@ -83,7 +85,8 @@ private:
   Deepest deepest_pair_contact(int only_atom) const;
   Deepest deepest_stock_wall_contact(int mesh, int only_atom) const;
   std::string contacts_of(int i) const;
-  [[noreturn]] void stop_at(int rank, const std::string &message);
+  // the walls fix reports its contacts with mesh k itself (tsg::WallContactSource)
+  bool reported(int k) const { return contact_source_ && contact_source_->reports_wall(k); }
 
   int check_every_;
   int pair_every_ = 0;    // steps between pair-overlap checks; 0 until parsed: check_every_
@@ -101,7 +104,7 @@ private:
   double max_wall_overlap_;   // δ/R; 0: off
   std::string wall_fix_id_;   // empty: no wall monitor
   class FixWallGran *walls_;
-  class FixWallGranCorotating *corotating_walls_;
+  tsg::WallContactSource *contact_source_;  // walls_ as a contact reporter (nullptr: stock fix wall/gran)
   std::vector<std::string> mesh_ids_;
   std::vector<double> wall_overlap_now_;
   double max_overlap_ratio_run_;

@@ -24,6 +24,7 @@ NORMAL_MODEL(EEPA,eepa,20)
 #include "update.h"
 
 #include "eepa_law.h"
+#include "normal_force.h"
 
 namespace LIGGGHTS {
 namespace ContactModels {
@@ -102,19 +103,7 @@ public:
     sidata.Fn = state.coulomb_load + damping;
     sidata.kn = state.coulomb_load / sidata.deltan;
 
-    if (sidata.is_wall) {
-      const double fn = normal_force * sidata.area_ratio;
-      i_forces.delta_F[0] += fn * sidata.en[0];
-      i_forces.delta_F[1] += fn * sidata.en[1];
-      i_forces.delta_F[2] += fn * sidata.en[2];
-    } else {
-      i_forces.delta_F[0] += normal_force * sidata.en[0];
-      i_forces.delta_F[1] += normal_force * sidata.en[1];
-      i_forces.delta_F[2] += normal_force * sidata.en[2];
-      j_forces.delta_F[0] -= normal_force * sidata.en[0];
-      j_forces.delta_F[1] -= normal_force * sidata.en[1];
-      j_forces.delta_F[2] -= normal_force * sidata.en[2];
-    }
+    tsg::apply_normal_force(sidata, i_forces, j_forces, normal_force);
   }
 
   // Apart but within contact_distance_factor: not a contact, so the pair's history need not

@@ -27,6 +27,7 @@ NORMAL_MODEL(YIELD,yield,21)
 #include "normal_model_base.h"
 #include "update.h"
 
+#include "normal_force.h"
 #include "yield_law.h"
 
 namespace LIGGGHTS {
@@ -123,15 +124,7 @@ public:
     sidata.gamman = gamman;
     sidata.gammat = gammat;
 
-    const double fn = sidata.is_wall ? normal_force * sidata.area_ratio : normal_force;
-    i_forces.delta_F[0] += fn * sidata.en[0];
-    i_forces.delta_F[1] += fn * sidata.en[1];
-    i_forces.delta_F[2] += fn * sidata.en[2];
-    if (!sidata.is_wall) {
-      j_forces.delta_F[0] -= fn * sidata.en[0];
-      j_forces.delta_F[1] -= fn * sidata.en[1];
-      j_forces.delta_F[2] -= fn * sidata.en[2];
-    }
+    tsg::apply_normal_force(sidata, i_forces, j_forces, normal_force);
   }
 
   void surfacesClose(SurfacesCloseData &scdata, ForceData &, ForceData &) override

@@ -11,7 +11,9 @@
 #include "memory.h"
 #include "update.h"
 
-#include "measure_common.h"
+#include "box_checks.h"
+#include "errors.h"
+#include "run_files.h"
 #include "sphere_slab.h"
 #include "zone_overlap.h"
 #include "zones_file.h"
@@ -26,7 +28,7 @@ ComputeElementStats::ComputeElementStats(LAMMPS *lmp, int &iarg, int narg, char 
 {
   const std::string who = std::string("compute ") + id + " element/stats";
   if (narg - iarg != 2 || std::string(arg[iarg]) != "zones")
-    tsg::measure::fail(lmp, who, "expected 'compute ID group element/stats zones ZONES_FILE'");
+    tsg::fail(lmp, who, "expected 'compute ID group element/stats zones ZONES_FILE'");
   zones_path_ = arg[iarg + 1];
   zones_ = tsg::measure::read_zones(lmp, zones_path_, who);
   iarg += 2;
@@ -50,12 +52,12 @@ void ComputeElementStats::init()
 {
   const std::string who = std::string("compute ") + id + " element/stats";
   if (!atom->radius_flag || !atom->rmass_flag)
-    tsg::measure::fail(lmp, who, "needs per-particle radius and mass (atom_style granular or sphere)");
-  if (tsg::measure::fixed_box_x(domain)) {
+    tsg::fail(lmp, who, "needs per-particle radius and mass (atom_style granular or sphere)");
+  if (tsg::fixed_box_x(domain)) {
     try {
       tsg::zones::check_inside(zones_, domain->boxlo[0], domain->boxhi[0], "zones file '" + zones_path_ + "'");
     } catch (const std::invalid_argument &e) {
-      tsg::measure::fail(lmp, who, e.what());
+      tsg::fail(lmp, who, e.what());
     }
   }
 }

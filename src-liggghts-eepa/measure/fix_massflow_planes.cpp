@@ -16,13 +16,16 @@
 #include "output.h"
 #include "update.h"
 
-#include "measure_common.h"
+#include "box_checks.h"
+#include "errors.h"
+#include "numbers.h"
+#include "output_files.h"
 #include "plane_crossing.h"
 
 using namespace LAMMPS_NS;
 
-using tsg::measure::fail;
-using tsg::measure::number;
+using tsg::fail;
+using tsg::number;
 
 FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg) : FixMeasureBase(lmp, narg, arg)
 {
@@ -31,7 +34,7 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg) : FixMea
     const std::string key = arg[iarg];
     if (key == "planes") {
       long k = 0;
-      if (iarg + 1 >= narg || !tsg::measure::parse_integer(arg[iarg + 1], 1, 1000, k))
+      if (iarg + 1 >= narg || !tsg::parse_integer(arg[iarg + 1], 1, 1000, k))
         fail(lmp, who_,
              std::string("'planes K X1 ... XK' needs a sensor count K between 1 and 1000, got '") +
                  (iarg + 1 < narg ? arg[iarg + 1] : "") + "'");
@@ -40,7 +43,7 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg) : FixMea
       for (long j = 0; j < k; ++j) {
         const char *text = arg[iarg + 2 + j];
         double x = 0;
-        if (!tsg::measure::parse_real(text, x))
+        if (!tsg::parse_real(text, x))
           fail(lmp, who_,
                "plane " + std::to_string(j + 1) + " position '" + text + "' is not a finite number (m); 'planes " +
                    std::to_string(k) + "' needs " + std::to_string(k) + " positions");
@@ -50,7 +53,7 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg) : FixMea
       iarg += 2 + static_cast<int>(k);
     } else if (key == "window") {
       long n = 0;
-      if (iarg + 1 >= narg || !tsg::measure::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
+      if (iarg + 1 >= narg || !tsg::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
         fail(lmp, who_,
              std::string("window = '") + (iarg + 1 < narg ? arg[iarg + 1] : "") +
                  "' must be a positive number of steps");
@@ -62,7 +65,7 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg) : FixMea
       iarg += 2;
     } else if (key == "append") {
       if (iarg + 1 >= narg) fail(lmp, who_, "append needs 'yes' or 'no'");
-      append_ = tsg::measure::parse_append(lmp, who_, arg[iarg + 1]);
+      append_ = tsg::parse_append(lmp, who_, arg[iarg + 1]);
       iarg += 2;
     } else {
       fail(lmp, who_, "unknown keyword '" + key + "' (allowed: planes, window, file, append)");
@@ -70,7 +73,7 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg) : FixMea
   }
   if (!have_planes) fail(lmp, who_, "missing 'planes K X1 ... XK'");
   if (window_ == 0) fail(lmp, who_, "missing 'window N' (averaging window, steps)");
-  if (!path_.empty()) tsg::measure::claim_output(lmp, who_, "mass-flow file", path_);
+  if (!path_.empty()) tsg::claim_output(lmp, who_, "mass-flow file", path_);
 
   size_vector = static_cast<int>(planes_.size());
   mass_.assign(planes_.size(), 0.0);
@@ -81,7 +84,7 @@ FixMassflowPlanes::FixMassflowPlanes(LAMMPS *lmp, int narg, char **arg) : FixMea
   // continues an earlier measurement (restart() is called after the constructor)
 }
 
-// Rank 0 opens the file (append or new, see measure_common.h open_output) with its header.
+// Rank 0 opens the file (append or new, see output_files.h open_output) with its header.
 void FixMassflowPlanes::open_mass_flow_file()
 {
   file_opened_ = true;
@@ -100,10 +103,9 @@ void FixMassflowPlanes::open_mass_flow_file()
 void FixMassflowPlanes::init()
 {
   if (!atom->rmass_flag) fail(lmp, who_, "needs per-particle mass (atom_style granular or sphere)");
-  if (tsg::measure::fixed_box_x(domain))
+  if (tsg::fixed_box_x(domain))
     for (size_t k = 0; k < planes_.size(); ++k)
-      tsg::measure::check_plane_in_box(lmp, who_, "plane " + std::to_string(k + 1) + " at", planes_[k],
-                                       domain->xperiodic);
+      tsg::check_plane_in_box(lmp, who_, "plane " + std::to_string(k + 1) + " at", planes_[k], domain->xperiodic);
   near_.configure(neighbor, atom);
   if (!file_opened_) open_mass_flow_file();
 }

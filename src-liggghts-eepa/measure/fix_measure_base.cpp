@@ -50,8 +50,8 @@ void FixMeasureBase::open_file(const std::string &role, const std::string &path,
                                const std::vector<std::string> &free_prefixes, int time_column)
 {
   // a record of the restart step itself stays: half a step of margin above the printed time
-  const tsg::measure::Rollback rollback{time_column, clock_.restart_time() + 0.5 * update->dt};
-  fp_ = tsg::measure::open_output(lmp, who_, role, path, header, append_, continuing_, free_prefixes, rollback);
+  const tsg::Rollback rollback{time_column, clock_.restart_time() + 0.5 * update->dt};
+  fp_ = tsg::open_output(lmp, who_, role, path, header, append_, continuing_, free_prefixes, rollback);
   file_opened_ = true;
 }
 
@@ -111,9 +111,9 @@ void FixMeasureBase::unpack_restart(int nlocal, int nth)
   for (int i = 0; i < nth; ++i) m += static_cast<int>(extra[nlocal][m]);
   const int size = static_cast<int>(extra[nlocal][m]) - 1;
   if (size != nstate_)
-    tsg::measure::fail_one(lmp, who_,
-                           "the restart file holds " + std::to_string(size) + " values per particle, this fix needs " +
-                               std::to_string(nstate_) + " (" + state_size_hint() + ")");
+    tsg::fail_one(lmp, who_,
+                  "the restart file holds " + std::to_string(size) + " values per particle, this fix needs " +
+                      std::to_string(nstate_) + " (" + state_size_hint() + ")");
   std::copy(&extra[nlocal][m + 1], &extra[nlocal][m + 1] + nstate_, state_[nlocal]);
   refresh(nlocal);
 }

@@ -10,7 +10,9 @@
 
 #include "fix.h"
 
-#include "measure_common.h"
+#include "axial_position.h"
+#include "output_files.h"
+#include "restart_clock.h"
 
 namespace LAMMPS_NS {
 
@@ -48,7 +50,7 @@ protected:
   double now() const { return clock_.now(update); }
   double unwrapped_x(int i, double near) const { return tsg::measure::unwrapped_x(atom, domain, i, near); }
   double period() const { return domain->xperiodic ? domain->xprd : 0.0; }
-  // Opens the output file on rank 0 (measure_common.h open_output) with append_ and continuing_;
+  // Opens the output file on rank 0 (output_files.h open_output) with append_ and continuing_;
   // `time_column` (1-based) holds the time of each record, for the records after a restart.
   void open_file(const std::string &role, const std::string &path, const std::string &header,
                  const std::vector<std::string> &free_prefixes, int time_column);
@@ -60,8 +62,8 @@ protected:
   double **state_ = nullptr;
   double **hot_ = nullptr;
   tsg::measure::NearList near_;
-  tsg::measure::RestartClock clock_;
-  tsg::measure::Append append_ = tsg::measure::Append::automatic;
+  tsg::RestartClock clock_;
+  tsg::Append append_ = tsg::Append::automatic;
   bool continuing_ = false;  // restored from a restart file: the output file continues
   bool file_opened_ = false;
   FILE *fp_ = nullptr;  // rank 0

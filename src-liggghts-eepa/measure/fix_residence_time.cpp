@@ -33,16 +33,21 @@
 #include "output.h"
 #include "update.h"
 
+#include "arguments.h"
 #include "axial_partition.h"
-#include "measure_common.h"
+#include "box_checks.h"
+#include "errors.h"
+#include "gather.h"
+#include "numbers.h"
+#include "output_files.h"
 #include "zones_file.h"
 
 using namespace LAMMPS_NS;
 namespace res = tsg::residence;
 using res::Slot;
 
-using tsg::measure::fail;
-using tsg::measure::number;
+using tsg::fail;
+using tsg::number;
 
 namespace {
 constexpr int kRecordHead = 8;  // id entry exit residence reason type_time[3]
@@ -63,7 +68,7 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
     };
     auto real = [&](int k) {
       double value = 0;
-      if (!tsg::measure::parse_real(arg[iarg + k], value))
+      if (!tsg::parse_real(arg[iarg + k], value))
         fail(lmp, who_, key + " value '" + arg[iarg + k] + "' is not a finite number (m)");
       return value;
     };
@@ -110,16 +115,16 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
       iarg += 2;
     } else if (key == "inside") {
       need(1);
-      write_inside_ = tsg::measure::parse_yes_no(lmp, who_, "inside", arg[iarg + 1]);
+      write_inside_ = tsg::parse_yes_no(lmp, who_, "inside", arg[iarg + 1]);
       iarg += 2;
     } else if (key == "append") {
       need(1);
-      append_ = tsg::measure::parse_append(lmp, who_, arg[iarg + 1]);
+      append_ = tsg::parse_append(lmp, who_, arg[iarg + 1]);
       iarg += 2;
     } else if (key == "flush") {
       need(1);
       long n = 0;
-      if (!tsg::measure::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
+      if (!tsg::parse_integer(arg[iarg + 1], 1, 2000000000L, n))
         fail(lmp, who_, std::string("flush = '") + arg[iarg + 1] + "' must be a positive integer (steps)");
       flush_every_ = static_cast<int>(n);
       flush_given_ = true;
@@ -145,7 +150,7 @@ FixResidenceTime::FixResidenceTime(LAMMPS *lmp, int narg, char **arg)
   zones_path_ = zones_file;
   records_path_ = records_file;
   zones_ = tsg::measure::read_zones(lmp, zones_path_, who_);
-  tsg::measure::claim_output(lmp, who_, "records file", records_path_);
+  tsg::claim_output(lmp, who_, "records file", records_path_);
   size_vector = 9;
   for (double &c : local_) c = 0;
   for (double &c : total_) c = 0;
@@ -188,13 +193,13 @@ void FixResidenceTime::init()
   if (settings_.periodic && !x_periodic) fail(lmp, who_, "'periodic' needs a box periodic in x (boundary p ...)");
   if (!settings_.periodic && x_periodic)
     fail(lmp, who_, "the box is periodic in x; give 'periodic X' (the reference plane of a pass)");
-  if (tsg::measure::fixed_box_x(domain)) {
+  if (tsg::fixed_box_x(domain)) {
     try {
       tsg::zones::check_inside(zones_, lo, hi, "zones file '" + zones_path_ + "'");
     } catch (const std::invalid_argument &e) {
       fail(lmp, who_, e.what());
     }
-    using tsg::measure::check_plane_in_box;
+    using tsg::check_plane_in_box;
     if (settings_.has_inlet) check_plane_in_box(lmp, who_, "inlet plane", settings_.inlet, false);
     if (settings_.has_outlet) check_plane_in_box(lmp, who_, "outlet plane", settings_.outlet, false);
     if (settings_.periodic) check_plane_in_box(lmp, who_, "periodic reference plane", plane_reference_, true);
@@ -306,10 +311,10 @@ void FixResidenceTime::check_ids()
     if (!(atom->mask[i] & groupbit)) continue;
     const double *s = state_[i];
     if (s[Slot::status] != res::kUnseen && s[Slot::id] != tag[i])
-      tsg::measure::fail_one(lmp, who_,
-                             "particle id changed from " + number(s[Slot::id]) + " to " + std::to_string(tag[i]) +
-                                 " (ids renumbered, e.g. by delete_atoms ... compress yes); residence tracking "
-                                 "needs stable ids: use compress no");
+      tsg::fail_one(lmp, who_,
+                    "particle id changed from " + number(s[Slot::id]) + " to " + std::to_string(tag[i]) +
+                        " (ids renumbered, e.g. by delete_atoms ... compress yes); residence tracking "
+                        "needs stable ids: use compress no");
   }
 }
 
@@ -408,7 +413,7 @@ void FixResidenceTime::flush()
     mine.insert(mine.end(), r.zone_time.begin(), r.zone_time.end());
   }
   pending_.clear();
-  const std::vector<double> all = tsg::measure::gather_to_root(world, mine, comm->me, comm->nprocs);
+  const std::vector<double> all = tsg::gather_to_root(world, mine, comm->me, comm->nprocs);
   if (comm->me == 0 && !all.empty()) {
     const size_t n = all.size() / static_cast<size_t>(width);
     std::vector<res::Record> records(n);
@@ -449,7 +454,7 @@ int FixResidenceTime::modify_param(int narg, char **arg)
 {
   if (strcmp(arg[0], "inside") == 0) {
     if (narg < 2) fail(lmp, std::string("fix_modify ") + id, "inside needs yes or no");
-    write_inside_ = tsg::measure::parse_yes_no(lmp, std::string("fix_modify ") + id, "inside", arg[1]);
+    write_inside_ = tsg::parse_yes_no(lmp, std::string("fix_modify ") + id, "inside", arg[1]);
     return 2;
   }
   return 0;

@@ -20,18 +20,19 @@
 #include "force.h"
 #include "group.h"
 #include "modify.h"
-#include "neigh_list.h"
-#include "neighbor.h"
 #include "output.h"
-#include "pair.h"
 #include "update.h"
 
-#include "measure_common.h"
+#include "errors.h"
+#include "gather.h"
+#include "numbers.h"
+#include "output_files.h"
+#include "pair_contacts.h"
 
 using namespace LAMMPS_NS;
 namespace sq = tsg::squeeze;
-using tsg::measure::fail;
-using tsg::measure::number;
+using tsg::fail;
+using tsg::number;
 
 namespace {
 constexpr int kTrackSize = static_cast<int>(sizeof(sq::Track) / sizeof(double));
@@ -60,13 +61,12 @@ FixSqueezeLedger::FixSqueezeLedger(LAMMPS *lmp, int narg, char **arg) : FixMeasu
     const char *value = arg[iarg + 1];
     auto real = [&](const char *allowed, bool ok(double)) {
       double v = 0;
-      if (!tsg::measure::parse_real(value, v) || !ok(v))
-        fail(lmp, who_, key + " = '" + value + "' is not allowed: " + allowed);
+      if (!tsg::parse_real(value, v) || !ok(v)) fail(lmp, who_, key + " = '" + value + "' is not allowed: " + allowed);
       return v;
     };
     auto integer = [&](long lo, const char *allowed) {
       long n = 0;
-      if (!tsg::measure::parse_integer(value, lo, 2000000000L, n))
+      if (!tsg::parse_integer(value, lo, 2000000000L, n))
         fail(lmp, who_, key + " = '" + value + "' is not allowed: " + allowed);
       return n;
     };
@@ -89,7 +89,7 @@ FixSqueezeLedger::FixSqueezeLedger(LAMMPS *lmp, int narg, char **arg) : FixMeasu
     } else if (key == "flush") {
       flush_every_ = static_cast<int>(integer(1, "a positive integer (steps)"));
     } else if (key == "append") {
-      append_ = tsg::measure::parse_append(lmp, who_, value);
+      append_ = tsg::parse_append(lmp, who_, value);
     } else {
       fail(lmp, who_,
            "unknown keyword '" + key +
@@ -102,7 +102,7 @@ FixSqueezeLedger::FixSqueezeLedger(LAMMPS *lmp, int narg, char **arg) : FixMeasu
     fail(lmp, who_, "end = " + number(thresholds_.end) + " must not exceed start = " + number(thresholds_.start));
   if (wall_fix_id_.empty()) fail(lmp, who_, "missing 'walls WALL-FIX' (the ID of the wall fix, e.g. walls)");
   if (records_path_.empty()) fail(lmp, who_, "missing 'records FILE' (where the squeeze events are written)");
-  tsg::measure::claim_output(lmp, who_, "records file", records_path_);
+  tsg::claim_output(lmp, who_, "records file", records_path_);
   size_vector = 13;
   allocate_per_atom(kSlots, 1);
 }
@@ -159,28 +159,14 @@ void FixSqueezeLedger::pair_depths(std::vector<double> &ratio, std::vector<char>
   const int nlocal = atom->nlocal;
   ratio.assign(nlocal, 0.0);
   touching.assign(nlocal, 0);
-  const NeighList *list = force->pair ? force->pair->list : nullptr;
-  if (!list) return;
-  double **x = atom->x;
-  const double *radius = atom->radius;
-  for (int ii = 0; ii < list->inum; ++ii) {
-    const int i = list->ilist[ii];
-    const int *neighbours = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; ++jj) {
-      const int j = neighbours[jj] & NEIGHMASK;
-      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-      const double reach = radius[i] + radius[j];
-      const double r2 = dx * dx + dy * dy + dz * dz;
-      if (r2 >= reach * reach) continue;
-      const double depth = (reach - std::sqrt(r2)) / std::min(radius[i], radius[j]);
-      ratio[i] = std::max(ratio[i], depth);
-      touching[i] = 1;
-      if (j < nlocal) {
-        ratio[j] = std::max(ratio[j], depth);
-        touching[j] = 1;
-      }
+  tsg::for_each_pair_contact(lmp, [&](int i, int j, double depth) {
+    ratio[i] = std::max(ratio[i], depth);
+    touching[i] = 1;
+    if (j < nlocal) {
+      ratio[j] = std::max(ratio[j], depth);
+      touching[j] = 1;
     }
-  }
+  });
 }
 
 // Energy the particles hold at set-up, taken as given (a run's start, or what commands between runs
@@ -302,8 +288,10 @@ void FixSqueezeLedger::end_of_step()
   std::copy(sums, sums + kSums, local);
   local[kSums] = power_local;
   MPI_Allreduce(local, reduced, kSums + 1, MPI_DOUBLE, MPI_SUM, world);
-  double peaks[kMaxima];
-  MPI_Allreduce(maxima, peaks, kMaxima, MPI_DOUBLE, MPI_MAX, world);
+  // the peaks change only where a squeeze closed (maxima stay 0 on every rank otherwise): one
+  // reduction a step, a second on the steps where one closed
+  double peaks[kMaxima] = {0};
+  if (reduced[kClosed] > 0) MPI_Allreduce(maxima, peaks, kMaxima, MPI_DOUBLE, MPI_MAX, world);
 
   // the energy budget: the walls' work (trapezoid over the step), gravity's, particles brought and taken
   const double power = reduced[kSums];
@@ -343,20 +331,11 @@ void FixSqueezeLedger::report_crossings(const std::vector<double> &mine, double 
 {
   const double before = crossings_;
   crossings_ += count;
-  std::vector<double> all;
   const bool name = crossings_named_ < kCrossingsNamed;
   const bool stop = max_crossed_ >= 0 && crossings_ > static_cast<double>(max_crossed_);
   if (!name && !stop) return;
-  int size = static_cast<int>(mine.size());
-  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
-  MPI_Allgather(&size, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  int total = 0;
-  for (int p = 0; p < comm->nprocs; ++p) {
-    displs[p] = total;
-    total += counts[p];
-  }
-  all.resize(static_cast<size_t>(total));
-  MPI_Allgatherv(mine.data(), size, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+  const std::vector<double> all = tsg::gather_to_all(world, mine, comm->nprocs);
+  const int total = static_cast<int>(all.size());
   auto describe = [&](const double *c) {
     const int wall = static_cast<int>(c[1]);
     return "particle " + number(c[0]) + " has its centre behind the surface of wall " +
@@ -409,7 +388,7 @@ void FixSqueezeLedger::post_run() { flush(); }
 
 void FixSqueezeLedger::flush()
 {
-  const std::vector<double> all = tsg::measure::gather_to_root(world, pending_, comm->me, comm->nprocs);
+  const std::vector<double> all = tsg::gather_to_root(world, pending_, comm->me, comm->nprocs);
   pending_.clear();
   if (comm->me != 0 || !fp_) return;
   const size_t n = all.size() / kRecordWidth;
@@ -431,34 +410,10 @@ void FixSqueezeLedger::flush()
 
 double FixSqueezeLedger::compute_vector(int n)
 {
-  switch (n) {
-    case 0:
-      return events_;
-    case 1:
-      return pressed_now_;
-    case 2:
-      return distinct_;
-    case 3:
-      return peak_wall_;
-    case 4:
-      return peak_pair_;
-    case 5:
-      return max_release_;
-    case 6:
-      return crossings_;
-    case 7:
-      return work_walls_;
-    case 8:
-      return work_gravity_;
-    case 9:
-      return kinetic_;
-    case 10:
-      return budget_ - kinetic_;
-    case 11:
-      return excess();
-    default:
-      return released_;
-  }
+  const double values[] = {events_,    pressed_now_, distinct_,     peak_wall_, peak_pair_,         max_release_,
+                           crossings_, work_walls_,  work_gravity_, kinetic_,   budget_ - kinetic_, excess(),
+                           released_};
+  return values[std::min(n, static_cast<int>(sizeof values / sizeof values[0]) - 1)];
 }
 
 // global state: a format mark, the counters, the energy budget and the clock

@@ -4,7 +4,8 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "measure_common.h"
+#include "errors.h"
+#include "output_files.h"
 
 namespace tsg::measure {
 

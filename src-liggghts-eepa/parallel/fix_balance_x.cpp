@@ -12,12 +12,13 @@
 #include "update.h"
 
 #include "balance_cuts.h"
-#include "measure_common.h"
+#include "errors.h"
+#include "numbers.h"
 
 using namespace LAMMPS_NS;
 namespace bal = ::tsg::balance;
-using tsg::measure::fail;
-using tsg::measure::number;
+using tsg::fail;
+using tsg::number;
 
 namespace {
 // histogram bins per rank: a cut lands inside the bin of its equal-count place (balance_cuts.h), so
@@ -30,7 +31,7 @@ FixBalanceX::FixBalanceX(LAMMPS *lmp, int narg, char **arg)
     : Fix(lmp, narg, arg), who_(std::string("fix ") + id + " balance/x"), every_(0), parts_(comm->procgrid[0])
 {
   long every = 0;
-  if (narg != 4 || !tsg::measure::parse_integer(arg[3], 1, 1000000000, every))
+  if (narg != 4 || !tsg::parse_integer(arg[3], 1, 1000000000, every))
     fail(lmp, who_,
          std::string("needs one argument, the balancing interval N in steps (an integer >= 1), got '") +
              (narg > 3 ? arg[3] : "") + (narg > 4 ? " ..." : "") + "'");

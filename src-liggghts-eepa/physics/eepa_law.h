@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "numbers.h"
+
 namespace tsg::eepa {
 
 // One contact pair, SI units.
@@ -66,33 +68,11 @@ inline double power(double x, double e) { return e == 1.5 ? x * std::sqrt(x) : s
 // x^(1/e); the Hertzian exponent takes the cube-root path (x^(2/3) = cbrt(x^2)).
 inline double root(double x, double e) { return e == 1.5 ? std::cbrt(x * x) : std::pow(x, 1 / e); }
 
-// Shortest decimal-ish rendering for error messages ("1.2", "-0.001", "2.5e-9", "nan").
-inline std::string format_number(double x)
-{
-  if (std::isnan(x)) return "nan";
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  if (x == 0) return "0";
-  int exponent = 0;
-  double mantissa = x;
-  if (std::fabs(x) < 1e-3 || std::fabs(x) >= 1e6) {
-    exponent = static_cast<int>(std::floor(std::log10(std::fabs(x))));
-    mantissa = std::round(x / std::pow(10.0, exponent) * 1e6) / 1e6;
-    if (std::fabs(mantissa) >= 10) {
-      mantissa /= 10;
-      ++exponent;
-    }
-  }
-  std::string text = std::to_string(mantissa);  // fixed, six decimals
-  text.erase(text.find_last_not_of('0') + 1);
-  if (text.back() == '.') text.pop_back();
-  return exponent == 0 ? text : text + "e" + std::to_string(exponent);
-}
-
 inline void require(bool in_range, const char *name, double value, const char *range)
 {
   if (!in_range)
-    throw std::invalid_argument(std::string(name) + " = " + format_number(value) + " is outside the allowed range " +
-                                range);
+    throw std::invalid_argument(std::string(name) + " = " + tsg::number(value, tsg::NumberKind::parameter) +
+                                " is outside the allowed range " + range);
 }
 
 // The adhesive branch of a contact: f_min and δ_min^n (see pull_off).

@@ -118,6 +118,15 @@ inline Event close(const Track &t, double time)
   return e;
 }
 
+// The event of the track closes at `time`; the track is free again (its event count kept).
+inline void finish(Track &t, double time, Event &finished)
+{
+  finished = close(t, time);
+  const double events = t.events;
+  t = Track{};
+  t.events = events;
+}
+
 inline void open(Track &t, const Sample &s, double time)
 {
   const double events = t.events + 1;
@@ -143,10 +152,7 @@ inline bool advance(Track &t, const Sample &s, const Thresholds &th, double time
       t.release_speed = std::max(t.release_speed, s.speed);
       t.release_left -= 1;
       if (t.release_left <= 0) {
-        finished = detail::close(t, time);
-        const double events = t.events;
-        t = Track{};
-        t.events = events;
+        detail::finish(t, time, finished);
         return true;
       }
       return false;
@@ -168,10 +174,7 @@ inline bool advance(Track &t, const Sample &s, const Thresholds &th, double time
     t.release_speed = s.speed;
     t.release_left = th.release_steps;
     if (th.release_steps == 0) {
-      finished = detail::close(t, time);
-      const double events = t.events;
-      t = Track{};
-      t.events = events;
+      detail::finish(t, time, finished);
       return true;
     }
   }

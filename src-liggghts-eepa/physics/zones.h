@@ -15,6 +15,7 @@
 #define TSG_ZONES_H
 
 #include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -25,6 +26,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "numbers.h"
 
 namespace tsg::zones {
 
@@ -47,39 +50,9 @@ struct Zone {
 
 namespace detail {
 
-inline std::string number(double value)
-{
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
-}
-
 inline std::string where(const std::string &source, int line)
 {
   return source + ", line " + std::to_string(line) + ": ";
-}
-
-// Whole-token number parse: "1e-3" yes, "1e-3m", "", "nan", "inf" no.
-inline bool parse_number(const std::string &token, double &value)
-{
-  if (token.empty()) return false;
-  const char *begin = token.c_str();
-  char *end = nullptr;
-  errno = 0;
-  value = std::strtod(begin, &end);
-  if (end != begin + token.size() || errno == ERANGE) return false;
-  return std::isfinite(value);
-}
-
-inline bool parse_index(const std::string &token, long &value)
-{
-  if (token.empty()) return false;
-  const char *begin = token.c_str();
-  char *end = nullptr;
-  errno = 0;
-  value = std::strtol(begin, &end, 10);
-  return end == begin + token.size() && errno != ERANGE;
 }
 
 }  // namespace detail
@@ -106,7 +79,7 @@ inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source
     Zone zone{};
     zone.line = line_number;
     long index = 0;
-    if (!detail::parse_index(tokens[0], index))
+    if (!tsg::parse_integer(tokens[0].c_str(), LONG_MIN, LONG_MAX, index))
       throw std::invalid_argument(where(source, line_number) + "index '" + tokens[0] + "' is not an integer");
     const long expected = static_cast<long>(zones.size()) + 1;
     if (index != expected)
@@ -122,7 +95,7 @@ inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source
     const char *names[3] = {"x_start", "x_end", "free_volume"};
     double *targets[3] = {&zone.x_start, &zone.x_end, &zone.free_volume};
     for (int k = 0; k < 3; ++k)
-      if (!detail::parse_number(tokens[2 + k], *targets[k]))
+      if (!tsg::parse_real(tokens[2 + k].c_str(), *targets[k]))
         throw std::invalid_argument(where(source, line_number) + names[k] + " '" + tokens[2 + k] +
                                     "' is not a finite number");
     if (!(zone.x_end > zone.x_start))
@@ -140,7 +113,7 @@ inline std::vector<Zone> parse_zones(std::istream &in, const std::string &source
         throw std::invalid_argument(
             where(source, line_number) + "zone " + tokens[0] + " [" + tokens[2] + ", " + tokens[3] +
             "] overlaps zone " + std::to_string(previous.index) + " (line " + std::to_string(previous.line) +
-            ") which ends at x = " + detail::number(previous.x_end) + " (adjacent zones may touch, not overlap)");
+            ") which ends at x = " + tsg::number(previous.x_end) + " (adjacent zones may touch, not overlap)");
     }
     zones.push_back(zone);
   }
@@ -252,7 +225,7 @@ inline std::size_t identity_size(const double *stored)
 // e.g. "zone 2 x_start: 0.03 in the restart file, 0.035 now".
 inline std::string identity_difference(const double *stored, const std::vector<Zone> &zones)
 {
-  using detail::number;
+  using tsg::number;
   const std::vector<double> now = identity(zones);
   const std::size_t count = static_cast<std::size_t>(stored[0]);
   const std::uint64_t stored_hash =

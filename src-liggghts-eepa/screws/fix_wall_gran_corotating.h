@@ -15,16 +15,20 @@
 // torque on it about its origin (N m, 3), and its angle θ = ω t (rad, not wrapped).
 // screw_dump writes each screw in its current pose every N steps as legacy VTK,
 // <prefix>_<mesh ID>_<step>.vtk (rank 0); N = 0 writes none.
-// Deepest contact per mesh: the largest overlap δ/R of any particle with each of its meshes since
-// the last take_deepest() (every step counted), read by fix check/contact's wall-overlap monitor.
-// This step's contacts per particle (deepest δ/R, meshes touched, meshes whose surface its centre
-// has crossed) and the screws' power on the particles: tsg::WallContactSource, read by fix
-// squeeze/ledger (corotating and fixed meshes; meshes left to fix wall/gran are not reported).
+// What it reports of its contacts with the corotating and fixed meshes (tsg::WallContactSource;
+// meshes left to fix wall/gran are not reported): the deepest contact per mesh since the last
+// take_deepest() (every step counted) and each particle's meshes in contact, read by fix
+// check/contact's guards; this step's contacts per particle (deepest δ/R, meshes touched, meshes
+// whose surface its centre has crossed) and the screws' power on the particles, read by fix
+// squeeze/ledger.
 // Restart files keep each particle's screw contacts and their history; restart_contacts reset starts
 // them all afresh instead (needed when the wall model, and so the history layout, changes).
 // When deleted (end of input or unfix) the fix reports the time spent in its own contact handling
 // per step (slowest rank) and how many candidate lists were built.
 //
+// The code, by concern: fix_wall_gran_corotating.cpp (the LIGGGHTS adapter), corotating_arguments.cpp,
+// corotating_geometry.cpp (triangles, candidate lists), corotating_contacts.cpp (the contact engine),
+// corotating_history.cpp (per-particle contact history), corotating_output.cpp (screw dumps, cost).
 // Design and measurements: docs/rotating-screws.md.
 #ifdef FIX_CLASS
 
@@ -43,6 +47,7 @@ FixStyle(wall/gran/corotating,FixWallGranCorotating)
 #include "fix_wall_gran.h"
 #include "neighbor.h"
 
+#include "numbers.h"
 #include "restart_clock.h"
 #include "rigid_rotation.h"
 #include "triangle_contact.h"
@@ -66,23 +71,16 @@ public:
   int modify_param(int narg, char **arg) override;
   double compute_vector(int n) override;
 
-  // Largest δ/R against a mesh since the previous call, and the atom ID that had it (0: none, on
-  // this rank); resets the record. handles_mesh: the mesh is one of this fix's corotate/fixed meshes.
-  struct DeepestContact {
-    double overlap_ratio = 0.0;
-    tagint atom_id = 0;
-  };
-  bool handles_mesh(const std::string &mesh_id) const;
-  DeepestContact take_deepest(const std::string &mesh_id);
-  // IDs of the corotate/fixed meshes local particle i has a contact with at present
-  std::vector<std::string> meshes_touched(int i) const;
-
   int wall_count() const override { return n_meshes(); }
   std::string wall_name(int wall) const override;
   const double *step_overlap_ratio() const override { return step_overlap_.data(); }
   const unsigned *step_walls_touched() const override { return step_touched_.data(); }
   const unsigned *step_walls_crossed() const override { return step_crossed_.data(); }
   double step_power() const override { return step_power_; }
+  // the corotate and fixed meshes; the others go through the stock path of fix wall/gran
+  bool reports_wall(int wall) const override { return screw_of_wall(wall) != nullptr; }
+  DeepestContact take_deepest(int wall) override;
+  unsigned walls_in_contact(int i) const override;
 
   void grow_arrays(int nmax) override;
   void copy_arrays(int i, int j, int delflag) override;
@@ -98,6 +96,10 @@ public:
   double memory_usage() override;
 
 private:
+  static constexpr int kLoadValues = 6;  // force on a screw (3) and torque about its origin (3)
+  // numbers in the set-up and restart messages: 6 significant digits (numbers.h)
+  static std::string number(double v) { return tsg::number(v, tsg::NumberKind::setup); }
+
   // A screw triangle near one image of a particle, found with the reach plus the list skin;
   // reused until the particle has moved beyond its margin in the lab or in a screw's frame.
   // Its bounding sphere and plane are copied here (single precision, read with kFilterSlack): the
@@ -117,28 +119,33 @@ private:
     std::vector<tsg::trimesh::Triangle> triangles;  // in the screw's own frame (as given), sorted by mesh id
     tsg::trimesh::TriangleTree tree;
     tsg::trimesh::CompressedLists coplanar;
-    double precision = 0.0;               // the mesh's precision (fix mesh/surface)
-    int key_offset = 0;                   // contact keys of this screw: key_offset + triangle index
-    double load[6] = {0, 0, 0, 0, 0, 0};  // force on the screw and torque about its origin, this rank
-    double angle = 0.0;                   // θ at the last force evaluation
-    DeepestContact deepest;               // since the last take_deepest()
+    double precision = 0.0;                         // the mesh's precision (fix mesh/surface)
+    int key_offset = 0;                             // contact keys of this screw: key_offset + triangle index
+    double load[kLoadValues] = {0, 0, 0, 0, 0, 0};  // force on the screw and torque about its origin, this rank
+    double angle = 0.0;                             // θ at the last force evaluation
+    DeepestContact deepest;                         // since the last take_deepest() (WallContactSource)
   };
 
+  const Screw *screw_of_wall(int wall) const;
+  // corotating_arguments.cpp
   static int wall_gran_arguments(int narg, char **arg);
   void parse_corotate(int narg, char **arg, int first);
   void add_mesh(Screw screw);
+  void set_screw_dump(const char *every, const char *prefix);
   [[noreturn]] void fail(const std::string &message);
+  // corotating_geometry.cpp
   void gather_triangles(Screw &screw);
   void check_shares_axis(const Screw &screw);
-  void corotating_contacts();
   void build_candidates(int i, const std::vector<tsg::rotation::Mat3> &poses);
   void follow_lists_to_new_indices(const std::vector<tsg::rotation::Mat3> &poses);
-  void write_screw_dumps();
-  void set_screw_dump(const char *every, const char *prefix);
-  void report_cost();
+  // corotating_contacts.cpp
+  void corotating_contacts();
   double *handle_contact(int i, const Screw &screw, int tri, bool face, bool &accepted);
   void mark_all_contacts();
   void clean_up_contacts();
+  // corotating_output.cpp
+  void write_screw_dumps();
+  void report_cost();
 
   std::vector<Screw> screws_;
   // candidate lists per owned particle, valid until the particle has moved beyond its margin from
@@ -158,7 +165,7 @@ private:
 
   // the angle comes from the time elapsed since the fix was created (as fix move/mesh's), kept
   // across a restart
-  tsg::measure::RestartClock clock_;
+  tsg::RestartClock clock_;
 
   // contact history with screw triangles, per particle: up to max_contacts_ slots of
   // (key, dnum values); keys < 0 are free slots

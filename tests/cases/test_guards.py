@@ -4,48 +4,27 @@ step an independent calculation predicts; a run within safe settings never trips
 from __future__ import annotations
 
 import math
+import os
+import subprocess
 
 import numpy as np
 import pytest
+from crafted_scenes import (
+    DENSITY,
+    HEADER,
+    PLANE,
+    POISSON,
+    RADIUS,
+    RANK_ONE_GUARDS,
+    RAYLEIGH,
+    TIMESTEP,
+    YOUNGS,
+    stl,
+)
+from tsg_harness import lmp_executable, mpi_command, run_lmp
 
-from tsg_harness import run_lmp
-
-RADIUS = 0.001      # m
-DENSITY = 2500.0    # kg/m^3
-YOUNGS, POISSON = 5.0e7, 0.25
-SHEAR = YOUNGS / (2 * (1 + POISSON))
-# Rayleigh time (Li, Xu & Thornton 2005), the estimate check/contact must print
-RAYLEIGH = math.pi * RADIUS * math.sqrt(DENSITY / SHEAR) / (0.1631 * POISSON + 0.8766)
-
-HEADER = """atom_style    granular
-atom_modify   map array
-boundary      f f f
-newton        off
-communicate   single vel yes
-units         si
-region        box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box
-create_box    1 box
-neighbor      0.0005 bin
-neigh_modify  delay 0
-fix m1 all property/global youngsModulus peratomtype 5.0e7
-fix m2 all property/global poissonsRatio peratomtype 0.25
-fix m3 all property/global coefficientRestitution peratomtypepair 1 1.0
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
-pair_style gran model hertz tangential history
-pair_coeff * *
-"""
-
-
-def stl(name: str, triangles: list[tuple[tuple[float, float, float], ...]]) -> str:
-    facets = "".join("facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {x!r} {y!r} {z!r}\n" for x, y, z in t)
-                     + "endloop\nendfacet\n" for t in triangles)
-    return f"solid {name}\n{facets}endsolid {name}\n"
-
-
-# the plane z = 0 the particle is pushed into, and a small disc far away that turns about x (a
+# the plane z = 0 the particle is pushed into (PLANE), and a small disc far away that turns about x (a
 # wall/gran/corotating fix needs one turning mesh)
-PLANE = stl("plane", [((-0.005, -0.005, 0.0), (0.005, -0.005, 0.0), (0.005, 0.005, 0.0)),
-                      ((-0.005, -0.005, 0.0), (0.005, 0.005, 0.0), (-0.005, 0.005, 0.0))])
 DISC = stl("disc", [((-0.008, -0.001, -0.001), (-0.008, 0.001, -0.001), (-0.008, 0.001, 0.001)),
                     ((-0.008, -0.001, -0.001), (-0.008, 0.001, 0.001), (-0.008, -0.001, 0.001))])
 WALL_PATHS = {
@@ -55,7 +34,6 @@ WALL_PATHS = {
 }
 PUSH_SPEED = 0.1      # m/s, prescribed (fix move): no contact force can stop the particle
 START_GAP = 1.05e-5   # m, between the particle and the plane at step 0
-TIMESTEP = 1e-6
 
 
 def pushed_into_plane(path: str, guard: str, nsteps: int) -> tuple[str, dict]:
@@ -288,3 +266,26 @@ def test_non_finite_velocity_stops_with_step_and_particle(tmp_path):
         "variable bad equal (-1)^0.5\ngroup two id 2\nvelocity two set v_bad 0 0 units box\nrun 10\n")
     run = run_lmp(text, tmp_path, expect_error=True)
     assert "check/contact: step 20: particle 2 has a non-finite position, velocity or force" in run.log, run.log[-2000:]
+
+
+@pytest.mark.parametrize("guard", RANK_ONE_GUARDS)
+def test_a_guard_on_rank_1_leaves_its_message_in_log_lammps(tmp_path, guard):
+    """Issue 37 item 6: a periodic run on 2 ranks, its screen output discarded (a batch job's stdout
+    lost with the job), stopped by a guard that only rank 1 sees: the message, naming what and where,
+    is in log.lammps. The guards of check/contact and squeeze/ledger reduce their finding across ranks
+    and stop every rank with the message of the rank that found it (tsg::fail_from, error->all: rank 0
+    writes the log); an error raised by one rank alone (error->one) is appended to the log by that
+    rank (patches/error-cpp.patch)."""
+    text, files, words = RANK_ONE_GUARDS[guard]
+    (tmp_path / "in.guard").write_text(text)
+    for name, content in files.items():
+        (tmp_path / name).write_text(content)
+    proc = subprocess.run(mpi_command(2) + [lmp_executable(), "-in", "in.guard"], cwd=tmp_path,
+                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=300,
+                          env=dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"))
+    assert proc.returncode != 0
+    log = (tmp_path / "log.lammps").read_text(errors="replace")
+    errors = [line for line in log.splitlines() if line.startswith("ERROR")]
+    assert len(errors) == 1, log[-3000:]
+    for word in words:
+        assert word in errors[0], log[-3000:]

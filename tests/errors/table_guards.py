@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from badinput import BadInput
+from crafted_scenes import RANK_ONE_GUARDS
 
 SCENE = """units si
 atom_style granular
@@ -64,3 +65,17 @@ CASES: list[BadInput] = [
              why="a time step above the safe fraction of the Rayleigh estimate is an error unless action warn",
              lmp_input=check_contact("every 10").replace("timestep 1e-6", "timestep 1e-4")),
 ]
+
+# A guard that only rank 1 sees, on 2 ranks of a run periodic along x (issue 37 item 6): its message
+# must be in log.lammps, which rank 0 writes (tests/crafted_scenes.py RANK_ONE_GUARDS; the test with
+# the screen output discarded: tests/cases/test_guards.py).
+RANK_ONE_WHY = {
+    "max_speed": "a particle too fast on rank 1: the motion guard stops every rank with rank 1's message",
+    "max_wall_overlap": "a particle pushed into a mesh on rank 1: the wall-overlap guard names it in the log",
+    "max_crossed": "a centre pushed through a wall on rank 1: the squeeze ledger's crossing guard names it in the log",
+    "max_contacts": "a particle on rank 1 with more screw contacts than max_contacts: rank 1 alone stops "
+                    "(error->one) and appends its message to the log",
+}
+CASES += [BadInput(f"guards.rank-1-{name.replace('_', '-')}-np2", words, why=RANK_ONE_WHY[name], lmp_input=text,
+                   files=files, nprocs=2)
+          for name, (text, files, words) in RANK_ONE_GUARDS.items()]

@@ -9,66 +9,30 @@ import math
 
 import numpy as np
 import pytest
+from crafted_scenes import (
+    ALPHA,
+    DENSITY,
+    LOW_DISC,
+    PLANE,
+    POISSON,
+    RADIUS,
+    RAYLEIGH,
+    TIMESTEP,
+    WEDGE_A,
+    WEDGE_B,
+    YOUNGS,
+    corotating_walls,
+    header,
+)
 from tsg_harness import run_lmp
 
-RADIUS = 0.001      # m
-DENSITY = 2500.0    # kg/m^3
-YOUNGS, POISSON = 5.0e7, 0.25
-SHEAR = YOUNGS / (2 * (1 + POISSON))
-RAYLEIGH = math.pi * RADIUS * math.sqrt(DENSITY / SHEAR) / (0.1631 * POISSON + 0.8766)
 MASS = DENSITY * 4 / 3 * math.pi * RADIUS**3
-TIMESTEP = 1e-6
-
-HEADER = """atom_style    granular
-atom_modify   map array
-boundary      f f f
-newton        off
-communicate   single vel yes
-processors    * 1 1
-units         si
-region        box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box
-create_box    1 box
-neighbor      0.0005 bin
-neigh_modify  delay 0
-fix m1 all property/global youngsModulus peratomtype 5.0e7
-fix m2 all property/global poissonsRatio peratomtype 0.25
-fix m3 all property/global coefficientRestitution peratomtypepair 1 1.0
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
-pair_style gran model hertz tangential history
-pair_coeff * *
-"""
+HEADER = header(processors="* 1 1")
 # the ledger's vector as thermo columns q1 .. q13 (LIGGGHTS cuts column names to 8 characters)
 THERMO = "".join(f"variable q{k} equal f_squeeze[{k}]\n" for k in range(1, 14)) + \
     "thermo_style custom step atoms " + " ".join(f"v_q{k}" for k in range(1, 14)) + \
     "\nthermo_modify format float %.15g norm no\n"
-
-
-def stl(name: str, triangles: list[tuple[tuple[float, float, float], ...]]) -> str:
-    facets = "".join("facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {x!r} {y!r} {z!r}\n" for x, y, z in t)
-                     + "endloop\nendfacet\n" for t in triangles)
-    return f"solid {name}\n{facets}endsolid {name}\n"
-
-
-# a small disc far away that turns about x (a wall/gran/corotating fix needs one turning mesh)
-DISC = stl("disc", [((-0.008, -0.001, -0.009), (-0.008, 0.001, -0.009), (-0.008, 0.001, -0.007)),
-                    ((-0.008, -0.001, -0.009), (-0.008, 0.001, -0.007), (-0.008, -0.001, -0.007))])
-# The wedge: two planes through the x axis, each at ALPHA from the vertical, their normals (vertex
-# order) facing the particle above the apex. A centre at height z is z sin(ALPHA) from each.
-ALPHA = math.radians(30.0)
-S, C, L = math.sin(ALPHA), math.cos(ALPHA), 0.006
-WEDGE_A = stl("wall_a", [((-L, 0.0, 0.0), (L, 0.0, 0.0), (L, L * S, L * C)),
-                         ((-L, 0.0, 0.0), (L, L * S, L * C), (-L, L * S, L * C))])
-WEDGE_B = stl("wall_b", [((-L, 0.0, 0.0), (L, -L * S, L * C), (L, 0.0, 0.0)),
-                         ((-L, 0.0, 0.0), (-L, -L * S, L * C), (L, -L * S, L * C))])
-PLANE = stl("plane", [((-0.005, -0.005, 0.0), (0.005, -0.005, 0.0), (0.005, 0.005, 0.0)),
-                      ((-0.005, -0.005, 0.0), (0.005, 0.005, 0.0), (-0.005, 0.005, 0.0))])
-
-
-def walls(fixed: list[str]) -> str:
-    meshes = "".join(f"fix {name} all mesh/surface file {name}.stl type 1\n" for name in fixed + ["disc"])
-    return meshes + (f"fix walls all wall/gran/corotating model hertz tangential history mesh n_meshes {len(fixed) + 1} "
-                     f"meshes {' '.join(fixed)} disc " + " ".join(f"fixed {name}" for name in fixed) +
-                     " corotate disc origin 0 0 -0.008 axis 1 0 0 period 1\n")
+S = math.sin(ALPHA)
 
 
 def ledger(keys: str = "") -> str:
@@ -93,7 +57,7 @@ def wedge_heights(steps: np.ndarray) -> np.ndarray:
 
 
 def wedge_scene() -> str:
-    return HEADER + walls(["wall_a", "wall_b"]) + f"""create_atoms 1 single {X0!r} 0 {Z0!r} units box
+    return HEADER + corotating_walls(["wall_a", "wall_b"]) + f"""create_atoms 1 single {X0!r} 0 {Z0!r} units box
 set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
 timestep {TIMESTEP!r}
 {ledger()}{THERMO}thermo 1000
@@ -108,7 +72,7 @@ run {N_OUT}
 @pytest.mark.parametrize("nprocs", [1, 2])
 def test_a_sphere_driven_into_a_wedge_is_one_squeeze_with_the_closed_form_peak(tmp_path, nprocs):
     run = run_lmp(wedge_scene(), tmp_path, nprocs=nprocs, files={"wall_a.stl": WEDGE_A, "wall_b.stl": WEDGE_B,
-                                                                   "disc.stl": DISC})
+                                                                   "disc.stl": LOW_DISC})
     thermo = run.thermo[-1]
     records = read_records(tmp_path / "squeezes.txt")
     assert records.shape == (1, 15), records
@@ -138,7 +102,7 @@ def test_a_sphere_driven_into_a_wedge_is_one_squeeze_with_the_closed_form_peak(t
 
 
 def pushed_through_plane(keys: str) -> str:
-    return HEADER + walls(["plane"]) + f"""create_atoms 1 single 0.0003 0.0002 {1.01 * RADIUS!r} units box
+    return HEADER + corotating_walls(["plane"]) + f"""create_atoms 1 single 0.0003 0.0002 {1.01 * RADIUS!r} units box
 set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
 timestep {TIMESTEP!r}
 {ledger(keys)}{THERMO}thermo 1000
@@ -149,7 +113,7 @@ run 12000
 
 @pytest.mark.parametrize("nprocs", [1, 2])
 def test_a_centre_pushed_through_a_wall_is_counted_and_named(tmp_path, nprocs):
-    run = run_lmp(pushed_through_plane(""), tmp_path, nprocs=nprocs, files={"plane.stl": PLANE, "disc.stl": DISC})
+    run = run_lmp(pushed_through_plane(""), tmp_path, nprocs=nprocs, files={"plane.stl": PLANE, "disc.stl": LOW_DISC})
     assert run.last("q7") == 1, run.log[-2000:]
     first = int(np.ceil(1.01 * RADIUS / (0.1 * TIMESTEP) + 1e-9))     # the first step with the centre below z = 0
     assert "fix squeeze squeeze/ledger: crossing 1: particle 1 has its centre behind the surface of wall plane" in run.log
@@ -157,14 +121,14 @@ def test_a_centre_pushed_through_a_wall_is_counted_and_named(tmp_path, nprocs):
 
 
 def test_a_crossing_above_max_crossed_stops_the_run(tmp_path):
-    run = run_lmp(pushed_through_plane("max_crossed 0"), tmp_path, files={"plane.stl": PLANE, "disc.stl": DISC},
+    run = run_lmp(pushed_through_plane("max_crossed 0"), tmp_path, files={"plane.stl": PLANE, "disc.stl": LOW_DISC},
                   expect_error=True)
     assert "particle 1 has its centre behind the surface of wall plane" in run.log
     assert "1 crossings exceed max_crossed = 0" in run.log, run.log[-2000:]
 
 
 def test_gravity_work_is_m_g_dz_and_creates_no_excess(tmp_path):
-    text = HEADER + walls(["plane"]) + f"""create_atoms 1 single 0.0003 0.0002 0.008 units box
+    text = HEADER + corotating_walls(["plane"]) + f"""create_atoms 1 single 0.0003 0.0002 0.008 units box
 set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
 velocity all set 0.01 0 0.2 units box
 fix integrate all nve/sphere
@@ -176,7 +140,7 @@ thermo_modify format float %.15g norm no
 thermo 500
 run 20000
 """
-    run = run_lmp(text, tmp_path, files={"plane.stl": PLANE, "disc.stl": DISC})
+    run = run_lmp(text, tmp_path, files={"plane.stl": PLANE, "disc.stl": LOW_DISC})
     thermo = run.thermo[-1]
     np.testing.assert_allclose(thermo["q9"], MASS * 9.81 * (0.008 - thermo["z"]), rtol=1e-9, atol=1e-18)
     kinetic = 0.5 * MASS * (0.01**2 + 0.2**2) + MASS * 9.81 * (0.008 - thermo["z"])
@@ -185,7 +149,7 @@ run 20000
 
 
 def head_on(dt: float, keys: str) -> str:
-    return HEADER + walls(["plane"]) + f"""create_atoms 1 single -0.0011 0 0.005 units box
+    return HEADER + corotating_walls(["plane"]) + f"""create_atoms 1 single -0.0011 0 0.005 units box
 create_atoms 1 single  0.0011 0 0.005 units box
 set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
 velocity all set NULL 0 0 units box
@@ -199,7 +163,7 @@ run {int(round(4e-3 / dt))}
 
 
 def test_an_elastic_collision_at_a_safe_step_conserves_the_budget(tmp_path):
-    run = run_lmp(head_on(0.1 * RAYLEIGH, "max_energy_excess 0.05"), tmp_path, files={"plane.stl": PLANE, "disc.stl": DISC})
+    run = run_lmp(head_on(0.1 * RAYLEIGH, "max_energy_excess 0.05"), tmp_path, files={"plane.stl": PLANE, "disc.stl": LOW_DISC})
     thermo = run.thermo[-1]
     assert thermo["q10"][-1] == pytest.approx(2 * 0.5 * MASS * 0.25, rel=1e-3)   # e = 1: all back
     assert np.all(thermo["q12"] < 1e-3)
@@ -209,7 +173,7 @@ def test_an_elastic_collision_at_a_safe_step_conserves_the_budget(tmp_path):
 @pytest.mark.parametrize("nprocs", [1, 2])
 def test_energy_created_by_a_far_too_long_step_stops_the_run(tmp_path, nprocs):
     run = run_lmp(head_on(10 * RAYLEIGH, "max_energy_excess 0.05"), tmp_path, nprocs=nprocs,
-                  files={"plane.stl": PLANE, "disc.stl": DISC}, expect_error=True)
+                  files={"plane.stl": PLANE, "disc.stl": LOW_DISC}, expect_error=True)
     assert "fix squeeze squeeze/ledger: kinetic energy runaway" in run.log, run.log[-2000:]
     assert "above max_energy_excess = 0.05; fastest particle" in run.log
     assert "reduce the time step" in run.log
@@ -235,7 +199,8 @@ def test_with_the_yield_treatment_a_crushed_sphere_leaves_at_the_closed_form_spe
     pressure, impact = 1.0e6, 5.0      # Pa, m/s: yields at 0.35 % of R, peaks near 0.29 R
     text = HEADER.replace("pair_style gran model hertz", "fix m5 all property/global yieldPressure peratomtypepair 1 "
                           f"{pressure!r}\npair_style gran model hertz") \
-        + walls(["plane"]).replace("model hertz", "model yield") + f"""create_atoms 1 single 0.0003 0.0002 {1.001 * RADIUS!r} units box
+        + corotating_walls(["plane"]).replace("model hertz", "model yield") \
+        + f"""create_atoms 1 single 0.0003 0.0002 {1.001 * RADIUS!r} units box
 set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
 velocity all set 0 0 -{impact!r} units box
 fix integrate all nve/sphere
@@ -243,7 +208,7 @@ timestep {TIMESTEP!r}
 {ledger()}{THERMO}thermo 100
 run 3000
 """
-    run = run_lmp(text, tmp_path, nprocs=nprocs, files={"plane.stl": PLANE, "disc.stl": DISC})
+    run = run_lmp(text, tmp_path, nprocs=nprocs, files={"plane.stl": PLANE, "disc.stl": LOW_DISC})
     records = read_records(tmp_path / "squeezes.txt")
     assert records.shape == (1, 15), records
     modulus = YOUNGS / (2 * (1 - POISSON**2))          # E* of two equal materials
@@ -259,7 +224,7 @@ run 3000
 
 def test_a_yield_pressure_that_is_not_positive_is_refused(tmp_path):
     text = HEADER.replace("pair_style gran model hertz", "fix m5 all property/global yieldPressure peratomtypepair 1 "
-                          "-5\npair_style gran model hertz") + walls(["plane"]).replace("model hertz", "model yield") + \
+                          "-5\npair_style gran model hertz") + corotating_walls(["plane"]).replace("model hertz", "model yield") + \
         "run 1\n"
-    run = run_lmp(text, tmp_path, files={"plane.stl": PLANE, "disc.stl": DISC}, expect_error=True)
+    run = run_lmp(text, tmp_path, files={"plane.stl": PLANE, "disc.stl": LOW_DISC}, expect_error=True)
     assert "model yield, atom types 1 1: yieldPressure = -5" in run.log and "(0, inf) Pa" in run.log, run.log[-1500:]

@@ -1,4 +1,4 @@
-// Unit tests of measure/record_rollback.h: the records a killed job wrote after its last restart file
+// Unit tests of common/record_rollback.h: the records a killed job wrote after its last restart file
 // are dropped before the continued run appends.
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@ std::string kept(const std::string &text, int column, double limit, std::size_t 
 {
   std::istringstream in(text);
   std::ostringstream out;
-  *dropped = tsg::measure::keep_records_until(in, out, column, limit);
+  *dropped = tsg::keep_records_until(in, out, column, limit);
   return out.str();
 }
 

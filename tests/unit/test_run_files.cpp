@@ -1,4 +1,4 @@
-// Unit tests of the registry of a run's files (src-liggghts-eepa/measure/run_files.h): one file under any
+// Unit tests of the registry of a run's files (src-liggghts-eepa/common/run_files.h): one file under any
 // spelling, outputs that collide with inputs, other outputs or the log; the log that another rank
 // appends to.
 #include <gtest/gtest.h>

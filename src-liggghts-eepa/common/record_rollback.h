@@ -13,7 +13,7 @@
 #include <ostream>
 #include <string>
 
-namespace tsg::measure {
+namespace tsg {
 
 // Copies `in` to `out` without the data lines whose `time_column` (1-based, whitespace-separated)
 // holds a time above `limit`; comment lines ('#') and lines without that column are kept. Returns
@@ -48,6 +48,6 @@ inline std::size_t keep_records_until(std::istream &in, std::ostream &out, int t
   return dropped;
 }
 
-}  // namespace tsg::measure
+}  // namespace tsg
 
 #endif

@@ -5,7 +5,7 @@
 #include "lmptype.h"
 #include "update.h"
 
-namespace tsg::measure {
+namespace tsg {
 
 // LIGGGHTS 3.8 does not keep the simulation time in restart files (it starts again from 0 after
 // read_restart): a fix that reports times keeps its own clock across a restart,
@@ -44,6 +44,6 @@ private:
   double restart_time_ = 0, restart_step_ = 0;
 };
 
-}  // namespace tsg::measure
+}  // namespace tsg
 
 #endif
