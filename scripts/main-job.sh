@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: the periodic ConsiGma-1 kneading-block case at demo scale, three fills (seeds 1-3)
 # continued side by side from their kept states at the end of a 1.5 s start-up (cases/states/, made
-# by `scripts/main-job.sh states`; cases/states.py), each sampled for ${TSG_MAIN_SAMPLE:-0.8} s on
+# by `scripts/main-job.sh states`; cases/states.py), each sampled for ${TSG_MAIN_SAMPLE:-0.4} s on
 # one rank; then the three combined into one summary table with 95 % intervals (tsg-analysis summary:
 # replicas combined) and the report of the three (tsg-analysis report: profiles, mass-flow traces,
 # RTDs, per-element residence times; docs/cases.md, "The main job").
@@ -17,7 +17,7 @@ build_dir="$(cd "$root" && realpath "${1:-build}")"
 states="$root/cases/states/periodic-demo"
 seeds=(1 2 3)
 startup=1.5        # s: the demo's flux and hold-up are steady from ≈ 1 s (docs/validation.md)
-sample="${TSG_MAIN_SAMPLE:-0.8}"
+sample="${TSG_MAIN_SAMPLE:-0.4}"
 export TSG_LMP="$build_dir/lmp"
 
 if [ "$action" = states ]; then

@@ -160,6 +160,7 @@ def _analyse_profile(run: RunAnalysis) -> None:
         blocks = int(averages.used.sum())
         run.holdup_residence = averages.holdup_residence
         run.throughput = averages.throughput
+        holdup_residence_by_zone.extend(averages.element_holdup_residence)
 
     def from_residence() -> None:
         nonlocal records
@@ -167,8 +168,13 @@ def _analyse_profile(run: RunAnalysis) -> None:
         estimates["residence_time"] = zone_residence_times(_need(run.records, "no usable residence.txt"), zones, selected)
         records = int(selected.sum())
 
+    holdup_residence_by_zone: list[Estimate] = []
     produced = [_attempt(run, "element profiles: solid fraction and velocities", from_elements),
-                _attempt(run, "element profiles: residence time per element", from_residence)]
+                _attempt(run, "element profiles: residence time per element (records)", from_residence)]
+    if not produced[1] and holdup_residence_by_zone:   # no complete record in the window: Little's law per element
+        estimates["residence_time"] = holdup_residence_by_zone
+        run.notes.append("residence time per element from hold-up over throughput (Little's law; no complete "
+                         "residence record in the window)")
     if any(produced):
         run.profile = element_profile(zones, estimates, blocks, records)
 

@@ -34,7 +34,7 @@ from .model import (
     Key,
 )
 from .parameters import RunParameters, read_run_parameters
-from .profiles import block_mask, domain_throughput, element_estimates, holdup_residence
+from .profiles import block_mask, domain_throughput, element_estimates, element_holdup_residence, holdup_residence
 from .rtd import mean_residence
 from .run_files import (
     ELEMENT_TYPES,
@@ -65,6 +65,7 @@ class ElementAverages:
     used: np.ndarray  # the blocks inside the window
     throughput: Estimate  # kg/h, the domain flux Σ m v_x / L
     holdup_residence: dict[str, Estimate]  # element type / "total" -> s, hold-up over throughput
+    element_holdup_residence: list[Estimate]  # one per zone, s, its hold-up over the throughput
 
 
 class Run:
@@ -173,7 +174,8 @@ class Run:
         times = self._block_axis(start, end)
         by_zone, used = element_estimates(self.elements, self.zones, self.blocks(start, end), times)
         return ElementAverages(by_zone, used, domain_throughput(self.elements, self.zones, used, times),
-                               holdup_residence(self.elements, self.zones, used, times))
+                               holdup_residence(self.elements, self.zones, used, times),
+                               element_holdup_residence(self.elements, self.zones, used, times))
 
     def record_types(self) -> list[str]:
         """The element types of the residence scopes: those of zones.txt, or those the records visited."""

@@ -3,7 +3,7 @@
 //   pair_style gran model eepa tangential history rolling_friction cdt
 //
 // This file only connects the law to LIGGGHTS: per-type-pair parameters, the per-contact history,
-// the dashpot and the forces. The law, its sources and every modelling choice: docs/eepa.md.
+// the dashpot and the forces. The law, its sources and every modelling choice: docs/model.md.
 #ifdef NORMAL_MODEL
 // clang-format off
 NORMAL_MODEL(EEPA,eepa,20)
@@ -68,7 +68,7 @@ public:
     const double reff = sidata.is_wall ? sidata.radi : sidata.radi * sidata.radj / (sidata.radi + sidata.radj);
     const tsg::eepa::Parameters law = eepa_properties_.parameters(Yeff_[itype][jtype], reff, itype, jtype);
 
-    // A contact starts virgin (docs/eepa-law.md, "Separation"). LIGGGHTS calls this function only
+    // A contact starts virgin (docs/model.md, "A contact that re-forms starts virgin"). LIGGGHTS calls this function only
     // while the surfaces overlap and keeps a pair's history until the next neighbour rebuild (with
     // contact_distance_factor > 1 even across rebuilds), so a separation is detected here: a
     // contact not evaluated on the previous step has been apart in between.

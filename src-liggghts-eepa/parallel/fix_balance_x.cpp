@@ -1,4 +1,4 @@
-// fix balance/x: see fix_balance_x.h and docs/parallel.md.
+// fix balance/x: see fix_balance_x.h and docs/performance.md, "fix balance/x".
 #include "fix_balance_x.h"
 
 #include <mpi.h>

@@ -1,5 +1,5 @@
 // Placement of the cuts between P ranks along one axis (x, the screw axis) so that every rank holds
-// the same share of the work, dependency-free (fix balance/x, docs/parallel.md).
+// the same share of the work, dependency-free (fix balance/x, docs/performance.md, "fix balance/x").
 //
 // The work along x is given as a histogram: nbins equal bins over [lo, hi], bin b holding weight
 // w_b, spread uniformly inside the bin. Its cumulative weight W(x) is then piecewise linear and the

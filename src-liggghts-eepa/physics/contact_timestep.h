@@ -1,5 +1,5 @@
 // Critical time-step estimates for DEM contacts, dependency-free. SI units.
-// Derivations and the seed-paper check are in docs/eepa-law.md, "Time step".
+// Derivations and the seed-paper check are in docs/model.md, "Time step".
 #ifndef TSG_CONTACT_TIMESTEP_H
 #define TSG_CONTACT_TIMESTEP_H
 

@@ -3,7 +3,7 @@
 // Sources: Thakur, Morrissey, Sun, Chen, Ooi, Granular Matter 16:383-400 (2014) ("Thakur 2014");
 // Morrissey, PhD thesis, University of Edinburgh (2013) ("Morrissey 2013"); the seed paper
 // (Section 2.1, Table 4). Every equation, and every choice made where the sources are silent, is
-// derived in docs/eepa-law.md. Sign convention: overlap δ > 0 in contact, force > 0 repels.
+// derived in docs/model.md. Sign convention: overlap δ > 0 in contact, force > 0 repels.
 #ifndef TSG_EEPA_LAW_H
 #define TSG_EEPA_LAW_H
 
@@ -59,7 +59,7 @@ namespace detail {
 constexpr double kPi = 3.14159265358979323846;
 
 // f_min is capped at this fraction of k2 δp^n, the tension of the unloading line at δ = 0
-// (docs/eepa-law.md, "Pull-off cap").
+// (docs/model.md, "Choice: pull-off cap").
 constexpr double kMaxPullOffFraction = 0.5;
 
 // x^e; the Hertzian exponent takes the sqrt path, several times faster than std::pow.
@@ -197,7 +197,7 @@ inline State evaluate(const Parameters &p, const History &previous, double overl
   return evaluate(p, previous, overlap, plastic_root(p.plasticity_ratio, p.slope_exponent));
 }
 
-// Undamped, non-adhesive restitution of a two-body impact (docs/eepa-law.md, "Restitution"):
+// Undamped, non-adhesive restitution of a two-body impact (docs/model.md, "Restitution of the undamped, non-adhesive law"):
 //   e^2 = [1 - (n+1) λp + n λp^(1+1/n)] / (1 - λp)
 // the work returned on the k2 line over the work done on the k1 line.
 inline double undamped_restitution(double plasticity_ratio, double slope_exponent)

@@ -2,7 +2,7 @@
 //   - TriangleTree: a bounding-volume hierarchy (axis-aligned boxes, median splits, leaves of four
 //     triangles) built once. A query visits the boxes within `reach` of a point; near a surface the
 //     boxes it opens grow with the mesh resolution only as the square root of the triangle count
-//     (a uniform grid of fixed cells grows linearly: measured in docs/rotating-screws.md), and the
+//     (a uniform grid of fixed cells grows linearly: measured in docs/performance.md, "Screw contacts"), and the
 //     reach is the querying particle's own, so no rebuild is needed when larger particles arrive.
 //   - coplanar_node_neighbours: for each triangle, the triangles that share a node with it and are
 //     coplanar (|n_a · n_b| > curvature), as LIGGGHTS' areCoplanarNodeNeighs decides; the contact

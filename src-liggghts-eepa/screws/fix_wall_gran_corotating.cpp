@@ -3,7 +3,7 @@
 // concern: corotating_arguments.cpp (the fix's keywords), corotating_geometry.cpp (the screws' triangles
 // and the candidate lists), corotating_contacts.cpp (the contact engine), corotating_history.cpp (the
 // per-particle contact history: migration and restart), corotating_output.cpp (screw dumps, cost
-// report). See fix_wall_gran_corotating.h and docs/rotating-screws.md.
+// report). See fix_wall_gran_corotating.h and docs/geometry.md, "Screws turned without moving meshes".
 #include "fix_wall_gran_corotating.h"
 
 #include <algorithm>

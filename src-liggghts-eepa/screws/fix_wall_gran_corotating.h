@@ -29,7 +29,7 @@
 // The code, by concern: fix_wall_gran_corotating.cpp (the LIGGGHTS adapter), corotating_arguments.cpp,
 // corotating_geometry.cpp (triangles, candidate lists), corotating_contacts.cpp (the contact engine),
 // corotating_history.cpp (per-particle contact history), corotating_output.cpp (screw dumps, cost).
-// Design and measurements: docs/rotating-screws.md.
+// Design: docs/geometry.md, "Screws turned without moving meshes"; measurements: docs/performance.md.
 #ifdef FIX_CLASS
 
 // clang-format off
@@ -176,7 +176,7 @@ private:
   int most_contacts_ = 0;                // largest number of contacts of one particle seen (reported)
   // candidate lists hold triangles within reach + list skin; default half the neighbour skin (the
   // lists are rebuilt when a particle near a screw moves a list skin in its frame, where the screw's
-  // turning moves every particle: docs/rotating-screws.md has the measured trade-off)
+  // turning moves every particle: docs/performance.md has the measured trade-off)
   double list_skin_ = 0.0;
   double list_skin() const { return list_skin_ > 0.0 ? list_skin_ : 0.5 * neighbor->skin; }
   int dump_every_ = 0;

@@ -6,6 +6,7 @@ from tsg_analysis.cross_section import (BORE_RADIUS, CENTRE_DISTANCE, grid_edges
                                         solid_fraction_maps)
 from tsg_analysis.dumps import ParticleFrame
 from tsg_analysis.profiles import (aligned_positions, block_mask, domain_throughput, element_estimates,
+                                   element_holdup_residence,
                                    holdup_residence, zone_residence_times)
 from tsg_analysis.run import Run
 from tsg_analysis.run_files import AnalysisInputError, ElementStatistics, ResidenceRecords, Zones
@@ -99,6 +100,10 @@ def test_holdup_over_throughput_is_littles_law():
     assert residence["kneading"].mean == pytest.approx(1e-3 / flux, rel=0.01)
     assert residence["total"].resolved and residence["total"].half_width < 0.01 * residence["total"].mean
     assert domain_throughput(s, ZONES, used, times).mean == pytest.approx(flux * 3600, rel=0.01)
+    # per element (the report's residence profile without complete records): m_e / Q, summing to the total
+    per_element = element_holdup_residence(s, ZONES, used, times)
+    assert [e.mean for e in per_element] == pytest.approx([3e-3 / flux, 1e-3 / flux], rel=0.01)
+    assert sum(e.mean for e in per_element) == pytest.approx(residence["total"].mean, rel=1e-9)
 
 
 def test_fixture_profiles_recover_the_prescribed_values(periodic_run):
