@@ -29,8 +29,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import paper_cost  # noqa: E402  (mpi, machine: one way to launch lmp and to name the machine)
+# a sibling (python puts the script's folder first on its path): mpi, machine: one way to launch lmp and to name the machine
+import paper_cost
 
 ROOT = paper_cost.ROOT
 KEPT = ROOT / "studies" / "validation" / "full-demo-d15"

@@ -25,8 +25,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import paper_cost  # noqa: E402  (prepare, make_restart, bench, machine: one way to run the case from a restart)
+# a sibling (python puts the script's folder first on its path): prepare, make_restart, bench, machine
+import paper_cost
 
 ROOT = paper_cost.ROOT
 

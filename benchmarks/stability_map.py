@@ -41,11 +41,10 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "tests"), str(ROOT / "analysis")]
-from tsg_harness import lmp_executable, mpi_command  # noqa: E402
+from tsg_analysis.liggghts_log import parse_thermo
+from tsg_cases.launcher import lmp_executable, mpi_command
 
-from tsg_analysis.liggghts_log import parse_thermo  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 BARREL_RADIUS = 0.006   # m
 SLICE_LENGTH = 0.0063   # m, periodic along x (6 lattice layers of 1 mm particles)
