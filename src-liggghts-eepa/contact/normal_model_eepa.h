@@ -68,8 +68,8 @@ public:
     const double reff = sidata.is_wall ? sidata.radi : sidata.radi * sidata.radj / (sidata.radi + sidata.radj);
     const tsg::eepa::Parameters law = eepa_properties_.parameters(Yeff_[itype][jtype], reff, itype, jtype);
 
-    // A contact starts virgin (docs/model.md, "A contact that re-forms starts virgin"). LIGGGHTS calls this function only
-    // while the surfaces overlap and keeps a pair's history until the next neighbour rebuild (with
+    // A contact starts virgin (docs/model.md, "A contact that re-forms starts virgin"). LIGGGHTS calls this function
+    // only while the surfaces overlap and keeps a pair's history until the next neighbour rebuild (with
     // contact_distance_factor > 1 even across rebuilds), so a separation is detected here: a
     // contact not evaluated on the previous step has been apart in between.
     double *history = sidata.contact_history;

@@ -197,7 +197,8 @@ inline State evaluate(const Parameters &p, const History &previous, double overl
   return evaluate(p, previous, overlap, plastic_root(p.plasticity_ratio, p.slope_exponent));
 }
 
-// Undamped, non-adhesive restitution of a two-body impact (docs/model.md, "Restitution of the undamped, non-adhesive law"):
+// Undamped, non-adhesive restitution of a two-body impact (docs/model.md, "Restitution of the
+// undamped, non-adhesive law"):
 //   e^2 = [1 - (n+1) λp + n λp^(1+1/n)] / (1 - λp)
 // the work returned on the k2 line over the work done on the k1 line.
 inline double undamped_restitution(double plasticity_ratio, double slope_exponent)
