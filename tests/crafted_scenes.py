@@ -15,18 +15,8 @@ RAYLEIGH = math.pi * RADIUS * math.sqrt(DENSITY / SHEAR) / (0.1631 * POISSON + 0
 TIMESTEP = 1e-6
 
 
-def header(processors: str | None = None, boundary: str = "f f f") -> str:
-    """Granular Hertz particles in the box (elastic: restitution 1)."""
-    grid = f"processors    {processors}\n" if processors else ""
-    return f"""atom_style    granular
-atom_modify   map array
-boundary      {boundary}
-newton        off
-communicate   single vel yes
-{grid}units         si
-region        box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box
-create_box    1 box
-neighbor      0.0005 bin
+# the particle material and contact model (elastic: restitution 1), also after a read_restart
+MATERIAL = """neighbor      0.0005 bin
 neigh_modify  delay 0
 fix m1 all property/global youngsModulus peratomtype 5.0e7
 fix m2 all property/global poissonsRatio peratomtype 0.25
@@ -35,6 +25,24 @@ fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
 pair_style gran model hertz tangential history
 pair_coeff * *
 """
+
+
+def setup(processors: str | None = None, boundary: str = "f f f") -> str:
+    """Atom style, boundaries and the 2 cm box region, before create_box or read_restart."""
+    grid = f"processors    {processors}\n" if processors else ""
+    return f"""atom_style    granular
+atom_modify   map array
+boundary      {boundary}
+newton        off
+communicate   single vel yes
+{grid}units         si
+region        box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box
+"""
+
+
+def header(processors: str | None = None, boundary: str = "f f f") -> str:
+    """Granular Hertz particles in the box (elastic: restitution 1)."""
+    return setup(processors, boundary) + "create_box    1 box\n" + MATERIAL
 
 
 HEADER = header()

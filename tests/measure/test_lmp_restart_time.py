@@ -6,24 +6,11 @@ dt of the last step (the fallback for a file written without its time) does not 
 from __future__ import annotations
 
 import pytest
+from crafted_scenes import MATERIAL, header, setup
 from tsg_harness import run_lmp
 
-SETUP = """atom_style    granular
-atom_modify   map array
-boundary      f f f
-newton        off
-communicate   single vel yes
-units         si
-region        box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box
-"""
-MATERIAL = """neighbor      0.0005 bin
-fix m1 all property/global youngsModulus peratomtype 5.0e7
-fix m2 all property/global poissonsRatio peratomtype 0.25
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
-pair_style gran model hertz tangential history
-pair_coeff * *
-fix integrate all nve/sphere
+# after the material: the integrator, gravity, and the time in thermo
+MOTION = """fix integrate all nve/sphere
 fix gravity all gravity 9.81 vector 0 0 -1
 thermo_style custom step time atoms
 thermo_modify format float %.15g
@@ -39,13 +26,13 @@ def first_rows(log_rows):
 
 @pytest.mark.parametrize("nprocs", [1, 2])
 def test_a_continued_run_reports_the_time_since_its_start(tmp_path, nprocs):
-    written = run_lmp(SETUP + "create_box 1 box\n" + "create_atoms 1 single 0 0 0 units box\n"
+    written = run_lmp(header() + "create_atoms 1 single 0 0 0 units box\n"
                       "create_atoms 1 single 0.005 0 0 units box\nset group all diameter 0.001 density 2500\n"
-                      + MATERIAL + f"timestep {DT_FIRST}\nrun {STEPS_FIRST}\ntimestep {DT_SECOND}\nrun {STEPS_SECOND}\n"
+                      + MOTION + f"timestep {DT_FIRST}\nrun {STEPS_FIRST}\ntimestep {DT_SECOND}\nrun {STEPS_SECOND}\n"
                       "write_restart state.restart\n", tmp_path, nprocs=nprocs)
     time_written = STEPS_FIRST * DT_FIRST + STEPS_SECOND * DT_SECOND
     assert written.last("Time") == pytest.approx(time_written, rel=1e-12)
-    continued = run_lmp(SETUP + "read_restart state.restart\n" + MATERIAL + f"timestep {DT_SECOND}\nrun 20\n",
+    continued = run_lmp(setup() + "read_restart state.restart\n" + MATERIAL + MOTION + f"timestep {DT_SECOND}\nrun 20\n",
                         tmp_path, nprocs=nprocs, input_name="in.continued")
     step, time = first_rows(continued.thermo)[0]
     assert step == STEPS_FIRST + STEPS_SECOND
