@@ -20,13 +20,11 @@ NORMAL_MODEL(YIELD,yield,21)
 #include <stdexcept>
 #include <string>
 
-#include "contact_models.h"
 #include "error.h"
 #include "force.h"
 #include "global_properties.h"
-#include "normal_model_base.h"
-#include "update.h"
 
+#include "history_normal_model.h"
 #include "normal_force.h"
 #include "yield_law.h"
 
@@ -34,37 +32,26 @@ namespace LIGGGHTS {
 namespace ContactModels {
 
 template <>
-class NormalModel<YIELD> : public NormalModelBase {
+class NormalModel<YIELD> : public HistoryNormalModel {
 public:
   static constexpr char kYieldPressure[] = "yieldPressure";  // p_y, Pa, > 0
 
-  NormalModel(LAMMPS *lmp, IContactHistorySetup *hsetup, class ContactModelBase *)
-      : NormalModelBase(lmp, hsetup, nullptr)
+  NormalModel(LAMMPS *lmp, IContactHistorySetup *hsetup, class ContactModelBase *) : HistoryNormalModel(lmp, hsetup)
   {
     // scalars: flag "0" keeps LIGGGHTS from negating them for the partner atom on exchange
     max_overlap_offset_ = hsetup->add_history_value("yield_max_overlap", "0");
     max_force_offset_ = hsetup->add_history_value("yield_max_force", "0");
     plastic_overlap_offset_ = hsetup->add_history_value("yield_plastic_overlap", "0");
     unload_radius_offset_ = hsetup->add_history_value("yield_unload_radius", "0");
-    last_touch_step_offset_ = hsetup->add_history_value("yield_last_touch_step", "0");
+    add_last_touch_step(hsetup, "yield_last_touch_step");
   }
-
-  void registerSettings(Settings &settings) override
-  {
-    settings.registerOnOff("tangential_damping", tangential_damping_, true);
-  }
-
-  void postSettings(IContactHistorySetup *, ContactModelBase *) override {}
 
   void connectToProperties(PropertyRegistry &registry) override
   {
-    registry.registerProperty("Yeff", &MODEL_PARAMS::createYeff, "model yield");
+    connect_stiffness_and_damping(registry, "model yield");
     registry.registerProperty("Geff", &MODEL_PARAMS::createGeff, "model yield");
-    registry.registerProperty("betaeff", &MODEL_PARAMS::createBetaEff, "model yield");
     registry.registerProperty(kYieldPressure, &create_yield_pressure, "model yield");
-    registry.connect("Yeff", Yeff_, "model yield");
     registry.connect("Geff", Geff_, "model yield");
-    registry.connect("betaeff", betaeff_, "model yield");
     registry.connect(kYieldPressure, yield_pressure_, "model yield");
     const int ntypes = registry.max_type();
     for (int i = 1; i <= ntypes; ++i)
@@ -86,14 +73,12 @@ public:
     if (sidata.contact_flags) *sidata.contact_flags |= CONTACT_NORMAL_MODEL;
     const int itype = sidata.itype;
     const int jtype = sidata.jtype;
-    const double reff = sidata.is_wall ? sidata.radi : sidata.radi * sidata.radj / (sidata.radi + sidata.radj);
-    const tsg::yield::Parameters law{Yeff_[itype][jtype], reff, yield_pressure_[itype][jtype]};
+    const tsg::yield::Parameters law{Yeff_[itype][jtype], effective_radius(sidata), yield_pressure_[itype][jtype]};
 
-    // a contact not evaluated on the previous step has been apart in between: it starts virgin
+    // a contact apart in between starts virgin
     double *history = sidata.contact_history;
-    const double step = static_cast<double>(update->ntimestep);
     tsg::yield::History previous;
-    if (history[last_touch_step_offset_] >= step - 1) {
+    if (touched_last_step(history)) {
       previous.max_overlap = history[max_overlap_offset_];
       previous.max_force = history[max_force_offset_];
       previous.plastic_overlap = history[plastic_overlap_offset_];
@@ -105,7 +90,7 @@ public:
       history[max_force_offset_] = state.history.max_force;
       history[plastic_overlap_offset_] = state.history.plastic_overlap;
       history[unload_radius_offset_] = state.history.unload_radius;
-      history[last_touch_step_offset_] = step;
+      mark_touched(history);
     }
 
     // model hertz's dashpot and tangential stiffness, on the active branch's contact radius
@@ -127,30 +112,18 @@ public:
     tsg::apply_normal_force(sidata, i_forces, j_forces, normal_force);
   }
 
-  void surfacesClose(SurfacesCloseData &scdata, ForceData &, ForceData &) override
-  {
-    if (scdata.contact_flags) *scdata.contact_flags &= ~CONTACT_NORMAL_MODEL;
-  }
-
-  void beginPass(SurfacesIntersectData &, ForceData &, ForceData &) override {}
-  void endPass(SurfacesIntersectData &, ForceData &, ForceData &) override {}
-
 private:
   static ::MatrixProperty *create_yield_pressure(::PropertyRegistry &registry, const char *caller, bool)
   {
     return MODEL_PARAMS::createPerTypePairProperty(registry, kYieldPressure, caller);
   }
 
-  double **Yeff_ = nullptr;
   double **Geff_ = nullptr;
-  double **betaeff_ = nullptr;
   double **yield_pressure_ = nullptr;
-  bool tangential_damping_ = true;
   int max_overlap_offset_ = -1;
   int max_force_offset_ = -1;
   int plastic_overlap_offset_ = -1;
   int unload_radius_offset_ = -1;
-  int last_touch_step_offset_ = -1;
 };
 
 }  // namespace ContactModels

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from tsg_analysis.liggghts_log import parse_thermo
+from tsg_analysis.run import Run
 from tsg_cases.launcher import lmp_command, lmp_environment
-from tsg_analysis.run_files import read_element_statistics, read_massflow, read_residence, read_zones
 
 ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 PYTHON = sys.executable
@@ -37,8 +37,8 @@ def parameters(log: str) -> dict[str, str]:
 
 
 def conveying_axial_velocity(out: Path) -> float:
-    zones = read_zones(out / "zones.txt")  # run_case.py copies the run's zones file
-    stats = read_element_statistics(out / "elements.txt")
+    run = Run(out)  # run_case.py copies the run's zones file
+    zones, stats = run.zones, run.elements
     mass = stats.column("mass")
     conveying = np.array([k == "conveying" for k in zones.kind])
     weighted = (stats.column("mean_axial_velocity") * mass)[:, conveying].sum()
@@ -84,17 +84,17 @@ def test_periodic_conserves_mass_and_loses_nothing(periodic_forward):
     diameters = fill_diameters(periodic_forward)
     assert len(diameters) == count
     total = np.sum(1263 * np.pi / 6 * diameters ** 3)
-    stats = read_element_statistics(periodic_forward / "elements.txt")
+    stats = Run(periodic_forward).elements
     # elements.txt prints 6 significant digits per zone (fix ave/time), so agreement to ~1e-6
     np.testing.assert_allclose(stats.column("mass").sum(axis=1), total, rtol=5e-6)
 
 
 def test_periodic_outputs_are_present_and_parseable(periodic_forward):
-    flow = read_massflow(periodic_forward / "massflow.txt")
+    flow = Run(periodic_forward).massflow
     assert flow.flow.shape[1] == 2 and len(flow.flow) >= 2 and np.all(np.isfinite(flow.flow))
-    records = read_residence(periodic_forward / "residence.txt")
+    records = Run(periodic_forward).residence
     assert records.time_by_zone.shape[1] == 8
-    stats = read_element_statistics(periodic_forward / "elements.txt")
+    stats = Run(periodic_forward).elements
     assert stats.values.shape[1] == 8
     assert np.all((stats.column("solid_fraction") >= 0) & (stats.column("solid_fraction") < 0.74))
 
@@ -108,7 +108,7 @@ def test_fill_density_is_the_runs_rho_p(tmp_path):
     diameters = fill_diameters(tmp_path)
     assert len(diameters) == int(re.search(r"fill_count equal (\d+)", fill).group(1))
     total = np.sum(1500 * np.pi / 6 * diameters ** 3)
-    stats = read_element_statistics(tmp_path / "elements.txt")
+    stats = Run(tmp_path).elements
     np.testing.assert_allclose(stats.column("mass").sum(axis=1), total, rtol=5e-6)
     params = json.loads((tmp_path / "params.json").read_text())
     assert params["rho_p"] == 1500.0 and params["variables"]["rho_p"] == "1500"
@@ -209,7 +209,7 @@ def test_nonperiodic_generates_cohesive_particles_without_losses(nonperiodic_run
     thermo = parse_thermo(log)[-1]
     assert inserted > 100 and thermo["Atoms"][-1] == inserted
     assert np.all(thermo["escaped"] == 0)
-    read_residence(tmp_path / "residence.txt")
+    Run(tmp_path).residence  # parses
 
 
 @pytest.mark.parametrize("name,value,message,status", [
@@ -260,7 +260,8 @@ def test_full_case_steady_branch_writes_restart_and_holdup(full_steady_run):
     assert (tmp_path / "steady.restart").stat().st_size > 0
     mass, count, mfs1, mfs2 = (tmp_path / "holdup.txt").read_text().splitlines()[1].split()
     assert float(mass) == pytest.approx(float(steady.group(2)), rel=1e-6) and int(count) > 0 and float(mfs2) > 0
-    assert read_element_statistics(tmp_path / "elements.txt").values.shape[1] == len(read_zones(tmp_path / "zones.txt"))
+    run = Run(tmp_path)
+    assert run.elements.values.shape[1] == len(run.zones)
 
 
 def test_full_case_inside_records_account_for_every_particle_once(full_steady_run):
@@ -268,7 +269,7 @@ def test_full_case_inside_records_account_for_every_particle_once(full_steady_ru
     # a particle that left, all at the end time, although the sampling run ends a run every thermo_every steps
     log = (full_steady_run / "log.lammps").read_text(errors="replace")
     atoms_at_end = int(parse_thermo(log)[-1]["Atoms"][-1])
-    records = read_residence(full_steady_run / "residence.txt")
+    records = Run(full_steady_run).residence
     inside = records.exit_reason == "inside"
     assert np.count_nonzero(inside) == atoms_at_end > 0
     assert len(np.unique(records.ids[inside])) == atoms_at_end
