@@ -283,12 +283,19 @@ def _flags(estimates: Sequence[Estimate]) -> tuple[bool | None, float | None, fl
 
 def replica_means(estimates: Sequence[Estimate]) -> Estimate:
     """Each replica's window mean is one independent sample: mean ± t_{R−1} s/√R. Valid whatever
-    the window's autocorrelation, because the replicas are independent runs."""
+    the window's autocorrelation, because the replicas are independent runs. The error is never
+    taken below what the windows' own fluctuation gives, √(Σ σᵢ²)/R (σᵢ: each window's time-series
+    standard error, where every replica has one): with 3 replicas the scatter s rests on 2 degrees of
+    freedom, and window means that happen to lie close would give an interval narrower than one
+    window's noise allows (docs/statistics.md, "Replicas")."""
     means = np.array([e.mean for e in estimates], dtype=np.float64)
     if means.size < 2 or not np.all(np.isfinite(means)):
         error = math.nan
     else:
         error = float(means.std(ddof=1)) / math.sqrt(means.size)
+        own = np.array([e.standard_error for e in estimates], dtype=np.float64)
+        if np.all(np.isfinite(own)):
+            error = max(error, float(np.sqrt(np.sum(own**2))) / means.size)
     half_width = t_quantile(means.size - 1) * error if math.isfinite(error) else math.nan
     # samples: all the replicas' samples; independent samples: one per replica (the window means)
     return Estimate(float(means.mean()), error, sum(e.samples for e in estimates), float(means.size), half_width,

@@ -2,10 +2,13 @@
 // share as LIGGGHTS normal models: the tangential_damping setting, the step of a contact's last
 // evaluation (a contact not evaluated on the previous step has been apart in between and starts
 // virgin), the effective radius, and the hooks of the interface that neither needs.
+// contact_models.h comes before the guard: it includes our normal models, which include this header
+// and need the class below, so included on its own this header must let them define it.
+#include "contact_models.h"
+
 #ifndef TSG_HISTORY_NORMAL_MODEL_H
 #define TSG_HISTORY_NORMAL_MODEL_H
 
-#include "contact_models.h"
 #include "global_properties.h"
 #include "normal_model_base.h"
 #include "update.h"
