@@ -1,7 +1,7 @@
 """Accuracy against cost: ladders of each fidelity setting against a reference run (issue 15).
 
     tsg-accuracy STUDY_DIR [--case periodic] [--scale demo] [--np 1] [--holdup-g G]
-                 [--seed S | --replicas R] [-v NAME VALUE ...] [--ladder SETTING VALUE [VALUE ...] ...]
+                 [--seed S | --replicas R] [--from-states DIR] [-v NAME VALUE ...] [--ladder SETTING VALUE [VALUE ...] ...]
                  [--tolerance 5%] [--tolerance-quantity "solid fraction"] [--no-run]
 
 The reference is the case at the scale's settings with your options (-v, --np, --mesh-tolerance,
@@ -25,6 +25,10 @@ with the same command is reused, so an interrupted study resumes where it stoppe
 --replicas R the reference and every run point are R runs that differ only in the fill seed
 (1 ... R), in <point>/seed-K: their window means give the intervals where each window is too short
 for a time-series interval (docs/statistics.md), and a point's cost is that of all its replicas.
+With --from-states DIR every run continues the kept state DIR/seed-K of its fill seed K (cases/states.py,
+e.g. cases/states/periodic-demo: steady states) instead of starting from the fill, so that the
+study measures at steady state; the state fixes the fill and the machine, so only the dt_fraction,
+sampling and np ladders apply.
 
 Per point and key quantity (mass flow by the flux estimator, per-element solid fraction, axial
 velocity and speed, mean residence time where complete records exist): the error against the
@@ -80,6 +84,7 @@ SETTINGS = {
     "np": "MPI ranks (control)",
 }
 CONTROLS = ("screw_drive", "np")
+FROM_STATE_SETTINGS = ("dt_fraction", "sampling", "np")   # the ladders a run from a kept state can change
 # run control: not carried from the reference to a point of another domain (each case has its own)
 RUN_TIMES = ("t_startup", "t_sample", "t_run", "t_max_startup")
 TOLERANCE_QUANTITIES = tuple(KEY_UNITS)
@@ -178,7 +183,11 @@ class Study:
         return Point(setting, value, case, argvs, run_dir, dirs)
 
     def argv(self, case: str, np_: int, variables: dict[str, str], tolerance: float | None, seed: int) -> list[str]:
-        argv = [case, "--scale", self.args.scale, "--np", str(np_), "--seed", str(seed)]
+        argv = [case, "--scale", self.args.scale, "--np", str(np_)]
+        if self.args.from_states is not None:
+            argv += ["--from-state", str((self.args.from_states / f"seed-{seed}").resolve())]
+        else:
+            argv += ["--seed", str(seed)]
         if self.args.holdup_g is not None:
             argv += ["--holdup-g", str(self.args.holdup_g)]
         if tolerance is not None:
@@ -384,7 +393,12 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
         choice = cheapest(candidates, tolerance_quantity, tolerance)
     result = {
         "case": study.args.case, "scale": study.args.scale,
-        "reference": {"argv": points[0].argv, "state": points[0].state},
+        "reference": {"argv": points[0].argv, "state": points[0].state,
+                      # the reference's value of each ladder setting (tsg_analysis.systematics reads them)
+                      "settings": {"dt_fraction": study.reference_vars["dt_fraction"],
+                                   "d_mean": study.reference_vars["d_mean"],
+                                   "mesh_tolerance": repr(study.reference_tolerance)},
+                      "from_states": None if study.args.from_states is None else str(study.args.from_states)},
         "cost_measure": "core_seconds: ranks x LIGGGHTS loop time of the run (start-up + sampling) that gave the number",
         "points": [{"label": p.label, "setting": p.setting, "value": p.value, "case": p.case, "run_dir": p.run_dir.name,
                     "replica_dirs": [str(d.relative_to(study.dir)) for d in p.run_dirs], "state": p.state, "note": p.note, "argv": p.argv,
@@ -530,6 +544,7 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--replicas", type=int, default=1,
                         help="runs per point that differ only in the fill seed (1 ... R)")
     parser.add_argument("--mesh-tolerance", type=float, help="the reference's mesh tolerance, m (default: the scale's)")
+    parser.add_argument("--from-states", type=Path, help="kept states DIR/seed-K that every run continues (fill seed K)")
     parser.add_argument("-v", "--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
                         help="a variable of the reference (and every point)")
     parser.add_argument("--domain-var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
@@ -553,6 +568,14 @@ def run(args: argparse.Namespace) -> int:
     if args.replicas > 1 and args.seed is not None:
         raise StudyError(f"--seed {args.seed} is not allowed with --replicas {args.replicas}: the replicas' seeds are "
                          f"1 ... {args.replicas}")
+    if args.from_states is not None:
+        other = [setting for setting, *_ in args.ladder if setting not in FROM_STATE_SETTINGS]
+        if other:
+            raise StudyError(f"--ladder {other[0]} is not allowed with --from-states {args.from_states}: the states fix "
+                             f"the fill and the machine (allowed: {', '.join(FROM_STATE_SETTINGS)})")
+        if args.holdup_g is not None or args.mesh_tolerance is not None:
+            raise StudyError(f"--{'holdup-g' if args.holdup_g is not None else 'mesh-tolerance'} is not allowed with "
+                             f"--from-states {args.from_states}: the states fix the fill and the machine")
     if args.domain_var and not any(setting == "domain" for setting, *_ in args.ladder):
         raise StudyError(f"--domain-var {args.domain_var[0][0]}: there is no --ladder domain for it to apply to")
     tolerance = Tolerance.parse(args.tolerance) if args.tolerance is not None else None

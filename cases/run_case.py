@@ -202,6 +202,11 @@ def check_state(args: argparse.Namespace) -> None:
     given = [name for name, _ in args.var if name in STATE_VARIABLES]
     if given:
         raise UserError(f"-v {given[0]} is not allowed with --from-state: the state sets {', '.join(STATE_VARIABLES)}")
+    for name, value in args.var:
+        if name in state.model and value != state.model[name]:
+            raise UserError(f"-v {name} {value} is not allowed with --from-state {args.from_state}: the state was made with "
+                            f"{name} {state.model[name]}, and its restart file keeps that model's contact history (run "
+                            f"{name} {value} from its fill, or from a state made with it)")
     args.seed = state.seed
     args.state = state
 
@@ -260,7 +265,8 @@ def run(args: argparse.Namespace) -> int:
 
     clearances = tuple(args.clearances) if args.clearances else \
         machine_clearances(scale["gap_factor"], float(effective["d_mean"]), float(effective.get("psd_sigma", 0.05)))
-    mesh_dir = build_meshes(CONFIGS[args.case], args.mesh_tolerance or scale["tolerance"], clearances)
+    mesh_tolerance = args.mesh_tolerance or scale["tolerance"]
+    mesh_dir = build_meshes(CONFIGS[args.case], mesh_tolerance, clearances)
     zones = read_zones(mesh_dir / "zones.txt")
     length = float(zones.x_end[-1])
     d_mean = float(effective["d_mean"])
@@ -303,7 +309,8 @@ def run(args: argparse.Namespace) -> int:
                                                   "step": state.step, "command": state.command, "commit": state.commit},
         "variables": {k: str(v) for k, v in variables.items()},
         "rpm": float(effective["rpm"]), "screw_direction": int(float(effective["screw_direction"])),
-        "rho_p": rho_p, "d_mean": d_mean, "mesh_dir": str(mesh_dir), "zones_file": str(out / "zones.txt"),
+        "rho_p": rho_p, "d_mean": d_mean, "mesh_dir": str(mesh_dir), "mesh_tolerance_m": mesh_tolerance,
+        "zones_file": str(out / "zones.txt"),
         "machine_file": str(out / MACHINE_FILE),
         "clearances_m": {"tip_to_barrel": clearances[0], "screw_to_screw": clearances[1], "disc_spacer": clearances[2]},
         "git_commit": git_commit()}, indent=1) + "\n")

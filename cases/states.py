@@ -7,10 +7,14 @@ other runs start from it instead of running the start-up again.
 A state directory holds state.restart.xz (the LIGGGHTS restart file the case wrote when its
 start-up ended: `-v write_state 1`), fill.vars (the fill's smallest diameter and particle count, which
 a continued run reads) and state.json: the case, scale, fill seed and start-up time of the run that
-made it, its command and commit. A run from a state is the same case with the same fill, continued:
-`start restart` from that file with `t_startup` the state's, so its measurements begin where the
-state ends (cases/in.tsg_periodic, "job segments"). The restart file is read by the lmp of today: a
-change to a fix's restart layout needs the states made again (the command is in state.json).
+made it, the simulation time its restart file carries, its model (MODEL_VARIABLES), its command and
+commit. A run from a state is the same case with the same fill, continued: `start restart` from that
+file with `t_startup` the state's, so its measurements begin where the state ends
+(cases/in.tsg_periodic, "job segments"), at the state's time step or another (the case plans its
+phases in time, from the time the restart file carries). The restart file is read by the
+lmp of today: a change to a fix's restart layout needs the states made again (the command is in
+state.json); so does a state made before restart files carried their simulation time (no "time" in
+state.json), whose time a continuation could only guess as step x dt.
 """
 from __future__ import annotations
 
@@ -26,6 +30,10 @@ from pathlib import Path
 from tsg_analysis.liggghts_log import parse_thermo
 
 STATE_RESTART = "state.restart"  # the file `-v write_state 1` writes in the run directory
+# variables that choose the contact model and the wall fix: a restart file keeps their per-contact
+# history, and LIGGGHTS refuses to continue it with another ("saved simulation state used different
+# contact history model"); a run from a state uses the state's (the case's defaults when not given)
+MODEL_VARIABLES = {"cohesion": "0", "screw_drive": "corotating"}
 DESCRIPTION = "state.json"
 FILL_VARS = "fill.vars"
 
@@ -42,6 +50,8 @@ class KeptState:
     seed: int
     t_startup: float  # s: the run's start-up, at whose end the state was written
     step: int
+    time: float  # s: the simulation time at `step`, stored in the restart file
+    model: dict[str, str]  # MODEL_VARIABLES as the state was made
     command: str
     commit: str | None
 
@@ -62,9 +72,13 @@ def read(state_dir: Path) -> KeptState:
     for name in (f"{STATE_RESTART}.xz", FILL_VARS):
         if not (state_dir / name).is_file():
             raise StateError(f"--from-state {state_dir}: {name} is missing")
+    if isinstance(values, dict) and "time" not in values:
+        raise StateError(f"--from-state {state_dir}: made before restart files carried their simulation time (no \"time\" in "
+                         f"{DESCRIPTION}); make it again with today's lmp: {values.get('command', 'see cases/states.py')}")
     try:
         return KeptState(state_dir, str(values["case"]), str(values["scale"]), int(values["seed"]),
-                         float(values["t_startup"]), int(values["step"]), str(values["command"]), values.get("commit"))
+                         float(values["t_startup"]), int(values["step"]), float(values["time"]),
+                         {**MODEL_VARIABLES, **values.get("model", {})}, str(values["command"]), values.get("commit"))
     except (KeyError, TypeError, ValueError) as problem:
         raise StateError(f"--from-state {state_dir}: {DESCRIPTION} lacks or mistypes {problem}") from None
 
@@ -78,12 +92,12 @@ def unpack(state: KeptState, out: Path) -> Path:
     return restart
 
 
-def _restart_step(run_dir: Path, t_startup: float) -> int:
-    """The time step the state was written at: the thermo row at the end of the start-up (the case
-    writes state.restart right after its start-up run, which ends on a thermo row)."""
+def _restart_row(run_dir: Path, t_startup: float) -> tuple[int, float]:
+    """The step and time the state was written at: the thermo row at the end of the start-up (the
+    case writes state.restart right after its start-up run, which ends on a thermo row)."""
     rows = [(int(step), float(time)) for block in parse_thermo((run_dir / "log.lammps").read_text(errors="replace"))
             for step, time in zip(block["Step"], block["Time"])]
-    at_end = [step for step, time in rows if math.isclose(time, t_startup, rel_tol=1e-5)]
+    at_end = [(step, time) for step, time in rows if math.isclose(time, t_startup, rel_tol=1e-5)]
     if not at_end:
         raise StateError(f"{run_dir / 'log.lammps'}: no thermo row at the end of the start-up, t_startup = {t_startup:g} s")
     return at_end[0]
@@ -102,12 +116,14 @@ def keep(run_dir: Path, state_dir: Path) -> KeptState:
         shutil.copyfileobj(plain, packed)
     shutil.copyfile(run_dir / FILL_VARS, state_dir / FILL_VARS)
     variables = params["variables"]
+    model = "".join(f" -v {name} {variables[name]}" for name in MODEL_VARIABLES if name in variables)
     command = (f"tsg-run-case periodic --scale {params['scale']} --seed {params['seed']} --np {params['np']} "
-               f"--out RUN -v t_startup {variables['t_startup']} -v t_sample {variables['t_sample']} -v write_state 1; "
+               f"--out RUN -v t_startup {variables['t_startup']} -v t_sample {variables['t_sample']} -v write_state 1{model}; "
                f"python -m tsg_cases.states keep RUN {state_dir}")
+    step, time = _restart_row(run_dir, float(variables["t_startup"]))
     description = {"case": params["case"], "scale": params["scale"], "seed": params["seed"],
-                   "t_startup": float(variables["t_startup"]),
-                   "step": _restart_step(run_dir, float(variables["t_startup"])),
+                   "t_startup": float(variables["t_startup"]), "step": step, "time": time,
+                   "model": {name: str(variables.get(name, default)) for name, default in MODEL_VARIABLES.items()},
                    "command": command, "commit": params.get("git_commit")}
     (state_dir / DESCRIPTION).write_text(json.dumps(description, indent=1) + "\n")
     return read(state_dir)

@@ -22,7 +22,8 @@ holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once
 marker: RUNNING (with the process id), DONE or FAILED (with the exit status). `report` compares each
 setting's finished runs with the reference's (tsg_analysis.summary.compare_runs: replicas combined,
 difference ± 95 % interval, significant or not) and sets the seed paper's directions and mass flows
-beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, parts.md (the flux in each of K
+beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, splits.md (where the sweep holds
+particle–particle-only and particle–geometry-only variations: the pair claims of Figs. 13–15), parts.md (the flux in each of K
 consecutive parts of the window, default 2), mass-flow.png and elements.png (per-element panels). By default every
 run is averaged over its whole sampling record; --start T from T s on, --start auto from the steady state detected
 in the runs: the latest over the finished runs of the start of stationarity of the domain flux (pymbar's
@@ -264,7 +265,16 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
     from tsg_analysis.run import Run
     from tsg_analysis.run_files import AnalysisInputError
     from tsg_analysis.summary import compare_runs, sweep_markdown, thermo_largest, write_sweep_csv
-    from tsg_analysis.validation import PAPER_MASS_FLOW, directions, directions_markdown, flux_parts, parts_markdown
+    from tsg_analysis.validation import (
+        PAIR_CLAIMS,
+        PAPER_MASS_FLOW,
+        directions,
+        directions_markdown,
+        flux_parts,
+        pair_markdown,
+        pair_verdicts,
+        parts_markdown,
+    )
 
     settings: dict[str, list[Run]] = {}
     for name, run_dir in dirs.items():
@@ -282,6 +292,9 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
         begin, window = start, f"every run from t = {start:.4g} s"
     try:
         rows = compare_runs(settings["reference"], variants, begin)
+        pairs = [claim for claim in PAIR_CLAIMS if settings.get(claim.first) and settings.get(claim.second)]
+        pair_rows = [row for first, second in dict.fromkeys((c.first, c.second) for c in pairs)
+                     for row in compare_runs(settings[second], {f"{first} − {second}": settings[first]}, begin)]
         flux_by_part = {name: flux_parts(runs, parts, begin) for name, runs in settings.items() if runs}
     except AnalysisInputError as problem:
         raise ParameterError(f"--start {start}: {problem}") from None
@@ -304,6 +317,13 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
     (out / "directions.md").write_text(header + "Direction of each variant's difference from the reference: the seed "
                                        "paper's and ours (significant at 95 %, else 'not resolved').\n\n" + table,
                                        encoding="utf-8")
+    written = "comparison.md, comparison.csv, directions.md, parts.md, mass-flow.png, elements.png"
+    if pairs:
+        (out / "splits.md").write_text(header + "The particle–particle-only and particle–geometry-only variations side by "
+                                       "side (Figs. 13–15): two variations in one group, or one changing a quantity more "
+                                       "than the other.\n\n" + pair_markdown(pair_verdicts(rows, pair_rows, pairs), pairs),
+                                       encoding="utf-8")
+        written += ", splits.md"
     flux = {r.variant: r.difference for r in rows if r.quantity == MASS_FLOW and r.scope == DOMAIN_FLUX}
     plot_paper_mass_flow(out / "mass-flow.png", [(name, flux.get(name), PAPER_MASS_FLOW.get(name)) for name in variants],
                          PAPER_MASS_FLOW["reference"])
@@ -313,7 +333,7 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
                                   "the flux stopped drifting?\n\n" + parts_markdown(flux_by_part),
                                   encoding="utf-8")
     print(header + table + "\n" + parts_markdown(flux_by_part) +
-          f"\nwritten: {out}/comparison.md, comparison.csv, directions.md, parts.md, mass-flow.png, elements.png")
+          f"\nwritten: {out}/{written}")
     return 0
 
 

@@ -189,6 +189,19 @@ def _domains(args: argparse.Namespace) -> int:
     return 0
 
 
+def _systematics(args: argparse.Namespace) -> int:
+    from . import systematics
+
+    if not args.study_dir.is_dir():
+        raise UsageError(f"study_dir {args.study_dir}: no such directory")
+    entries = systematics.from_accuracy(args.study_dir, args.name, args.window, args.where)
+    systematics.add(entries)
+    print(f"{systematics.REGISTRY}: study {args.name}, {len(entries)} entries")
+    for e in entries:
+        print(f"  {e.setting} {e.value} against {e.reference}: {e.text()}")
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     main_parser = _Parser(prog="python -m tsg_analysis", description="Post-analysis of TSG-DEM runs.")
     main_parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
@@ -239,6 +252,14 @@ def parser() -> argparse.ArgumentParser:
                               "independent samples of the hold-up follow")
     domains.add_argument("--periodic-start", default="auto", help="steady start of the periodic runs, s, or auto")
     domains.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
+    systematics = commands.add_parser("systematics", help="add an accuracy study's measured errors to the registry "
+                                      "that the summary and the report quote (tsg_analysis/systematics.json)")
+    systematics.add_argument("action", choices=("add",))
+    systematics.add_argument("study_dir", type=Path, help="a tsg-accuracy study directory (its accuracy.json)")
+    systematics.add_argument("--name", required=True, help="the study's name in the registry (replaces one of that name)")
+    systematics.add_argument("--window", required=True, help="how its runs were sampled, in words (quoted beside its numbers)")
+    systematics.add_argument("--where", help="the folder its outputs are kept in (default: study_dir)")
+    systematics.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     return main_parser
 
 
@@ -247,7 +268,8 @@ def main(argv: list[str] | None = None) -> int:
     debug = "--debug" in argv
     try:
         args = parser().parse_args(argv)
-        return {"report": _report, "summary": _summary, "compare": _compare, "domains": _domains}[args.command](args)
+        return {"report": _report, "summary": _summary, "compare": _compare, "domains": _domains,
+                "systematics": _systematics}[args.command](args)
     except UsageError as err:
         if debug:
             raise

@@ -32,6 +32,7 @@ class RunParameters:
     seed: int | None = None
     zones_file: str | None = None
     git_commit: str | None = None
+    mesh_tolerance: float | None = None  # m (params.json's mesh_tolerance_m)
 
     @property
     def revolution_s(self) -> float:
@@ -69,7 +70,9 @@ def _from_json(path: Path) -> RunParameters:
     return RunParameters(rpm, rho_p, d_mean, source=str(path),
                          variables={str(k): str(v) for k, v in variables.items()}, case=data.get("case"),
                          scale=data.get("scale"), seed=int(seed) if isinstance(seed, (int, float)) else None,
-                         zones_file=data.get("zones_file"), git_commit=data.get("git_commit"))
+                         zones_file=data.get("zones_file"), git_commit=data.get("git_commit"),
+                         mesh_tolerance=float(data["mesh_tolerance_m"]) if isinstance(data.get("mesh_tolerance_m"), (int, float))
+                         else None)
 
 
 def _from_log(path: Path) -> RunParameters:

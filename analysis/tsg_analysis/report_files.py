@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import systematics
 from .model import UNITS, Report, RunAnalysis
 from .profiles import QUANTITIES
 from .rtd import AGREEMENT_KS_DISTANCE, RTDStatistics, rtd_histogram
@@ -296,6 +297,12 @@ def not_produced_markdown(report: Report) -> str:
     return "\n".join(["## Not produced", "", *lines]) + "\n"
 
 
+def systematics_markdown(run: RunAnalysis) -> str:
+    """The systematic errors the accuracy studies measured for the run's settings (tsg_analysis.systematics)."""
+    head, *rows = systematics.lines_for(run.parameters)
+    return "\n".join(["### Systematic errors", "", head[0].upper() + head[1:], "", *[f"- {r.strip()}" for r in rows], ""])
+
+
 def markdown(report: Report) -> str:
     s = report.settings
     window = "one screw revolution of the run" if s.steady_window is None else f"{s.steady_window:g} s"
@@ -315,8 +322,8 @@ def markdown(report: Report) -> str:
              f"Numbers in summary.json that are null are {NULL_MEANS}.", ""]
     for run in report.runs:
         lines += [f"## Run `{run.label}`", "", f"Directory: `{run.run_dir}`", "", log_markdown(run),
-                  massflow_markdown(run), rtd_markdown(run), profile_markdown(run), dumps_markdown(run),
-                  squeezes_markdown(run)]
+                  massflow_markdown(run), rtd_markdown(run), profile_markdown(run), systematics_markdown(run),
+                  dumps_markdown(run), squeezes_markdown(run)]
         if run.notes:
             lines += ["**Input notes:**", "", *[f"- {n}" for n in run.notes], ""]
     lines += [differences_markdown(report), comparison_markdown(report)]

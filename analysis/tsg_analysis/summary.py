@@ -17,6 +17,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from . import systematics
 from .liggghts_log import parse_thermo
 from .model import AXIAL_VELOCITY, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS, Key
 from .parameters import RunParameters
@@ -160,6 +161,7 @@ def summary_table(runs: Run | Sequence[Run]) -> str:
             e = r.estimate
             lines.append(f"  {r.scope:<26} {e.text():<44} n_eff {e.independent_samples:6.1f}  "
                          f"stationary from {_start(e.detected_start)} (window from {_start(e.chosen_start)})")
+    lines += systematics.lines_for(summary.parameters)
     return "\n".join(lines)
 
 

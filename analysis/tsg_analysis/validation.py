@@ -74,6 +74,59 @@ PAPER_CLAIMS: list[Claim] = [
     Claim("cohesion-high", SOLID_FRACTION, FIRST_KNEADING, +1, "Sec. 3.4, Fig. 16: up on the first two kneading"),
     Claim("cohesion-high", SOLID_FRACTION, CONVEYING, -1, "Sec. 3.4, Fig. 16: down on conveying (fixed mass)"),
     Claim("cohesion-high", AXIAL_VELOCITY, KNEADING, -1, "Sec. 3.4, Fig. 16: longitudinal velocity decreases"),
+    # the particle–particle-only and particle–geometry-only variations (Figs. 13–15)
+    Claim("e_pp-0.9", SOLID_FRACTION, CONVEYING + KNEADING, 0, "Sec. 3.2, Fig. 13: χpp 0.9 has little effect"),
+    Claim("e_pg-0.9", AXIAL_VELOCITY, KNEADING, -1, "Sec. 3.2, Fig. 13: χpg up, axial velocity down"),
+    Claim("mus_pg-0.1", SOLID_FRACTION, KNEADING, -1, "Sec. 3.3, Fig. 14: lower μs,pg, lower solid fraction"),
+    Claim("mus_pg-0.1", AXIAL_VELOCITY, KNEADING, +1, "Sec. 3.3, Fig. 14: larger μs,pg retards flow"),
+    Claim("mur_pp-0.2", SOLID_FRACTION, FIRST_KNEADING, +1, "Sec. 3.3, Fig. 15: held up on K1, K2 (either μr)"),
+    Claim("mur_pg-0.2", SOLID_FRACTION, FIRST_KNEADING, +1, "Sec. 3.3, Fig. 15: held up on K1, K2 (either μr)"),
+    Claim("mur_pp-0.2", AXIAL_VELOCITY, CONVEYING + KNEADING, -1, "Sec. 3.3, Fig. 15: lower on all elements"),
+    Claim("mur_pg-0.2", AXIAL_VELOCITY, CONVEYING + KNEADING, -1, "Sec. 3.3, Fig. 15: lower on all elements"),
+]
+
+
+@dataclass(frozen=True)
+class PairClaim:
+    """A claim of Figs. 13–15 that sets two variations side by side: `first` and `second` fall into
+    one group ("same": their difference is not significant and its interval narrower than the gap
+    between the groups, `other_group`'s change from the reference, element by element), or `first` moves the
+    quantity further from the reference than `second` does ("further": first − second significant in
+    the direction of first's own change)."""
+
+    first: str
+    second: str
+    relation: str  # "same" | "further"
+    quantity: str
+    scopes: tuple[str, ...]
+    source: str
+    other_group: str = ""  # "same": a variant of the other group
+
+    @property
+    def label(self) -> str:
+        return Claim(self.first, self.quantity, self.scopes, 0, self.source).label
+
+    @property
+    def pair(self) -> str:
+        """The variant name of the first − second comparison rows."""
+        return f"{self.first} − {self.second}"
+
+
+PAIR_CLAIMS: list[PairClaim] = [
+    PairClaim("mus_pp-0.1", "reference", "same", SOLID_FRACTION, CONVEYING + KNEADING,
+              "Sec. 3.3, Fig. 14: two groups, distinguished by μs,pg", "mus_pg-0.1"),
+    PairClaim("mus_pp-0.1", "reference", "same", AXIAL_VELOCITY, CONVEYING + KNEADING,
+              "Sec. 3.3, Fig. 14: the two groups even more apparent in axial velocity", "mus_pg-0.1"),
+    PairClaim("e_pg-0.9", "e_pp-0.9", "further", SOLID_FRACTION, CONVEYING + KNEADING,
+              "Sec. 3.2, Fig. 13: the particle–geometry χ is the more influential"),
+    PairClaim("mus_pg-0.1", "static-friction-0.1", "same", SOLID_FRACTION, CONVEYING + KNEADING,
+              "Sec. 3.3, Fig. 14: two groups, distinguished by μs,pg", "reference"),
+    PairClaim("mus_pg-0.1", "static-friction-0.1", "same", AXIAL_VELOCITY, CONVEYING + KNEADING,
+              "Sec. 3.3, Fig. 14: the two groups even more apparent in axial velocity", "reference"),
+    PairClaim("mur_pp-0.2", "mur_pg-0.2", "further", AXIAL_VELOCITY, CONVEYING + KNEADING,
+              "Sec. 3.3, Fig. 15: axial velocity reduced more by μr,pp than by μr,pg"),
+    PairClaim("rolling-friction-0.2", "mur_pp-0.2", "further", AXIAL_VELOCITY, CONVEYING + KNEADING,
+              "Sec. 3.3, Fig. 15: both together, the largest reduction"),
 ]
 
 
@@ -124,6 +177,59 @@ def directions(rows: Sequence, claims: Sequence[Claim] = PAPER_CLAIMS) -> list[V
             agrees = "no" if ours != "mixed" else "partly"
         verdicts.append(Verdict(claim, ours, agrees, detail))
     return verdicts
+
+
+def pair_verdicts(rows: Sequence, pair_rows: Sequence, claims: Sequence[PairClaim] = PAIR_CLAIMS) -> list[Verdict]:
+    """Each pair claim against `pair_rows` (summary.compare_runs of `first` against `second`,
+    variant named PairClaim.pair) and, for "further", first's own change in `rows` (against the
+    reference). Verdicts carry a Claim of `first` with direction 0 ("same") or its change's sign."""
+    verdicts = []
+    for claim in claims:
+        found = [r for r in pair_rows if r.variant == claim.pair and r.quantity == claim.quantity and r.scope in claim.scopes]
+        own = {r.scope: r.difference for r in rows if r.variant == claim.first and r.quantity == claim.quantity}
+        # the other group's change from the reference (the reference itself is 0 from the first group's)
+        group = claim.other_group if claim.other_group != "reference" else claim.first
+        gaps = {r.scope: r.difference for r in rows if r.variant == group and r.quantity == claim.quantity}
+        stand_in = Claim(claim.pair, claim.quantity, claim.scopes, 0, claim.source)
+        if not found:
+            verdicts.append(Verdict(stand_in, "no data", "not resolved", "a variant not run"))
+            continue
+        marks = []
+        for r in found:
+            d = r.difference
+            if not d.inputs_resolved:
+                marks.append("?")
+            elif claim.relation == "same":
+                # one group only where the pair's interval is narrower than first's own change from the
+                # reference (the gap to the other group); a wide interval decides nothing
+                gap = gaps.get(r.scope)
+                marks.append("no" if d.significant else "yes" if gap is not None and d.half_width < abs(gap.value) else "·")
+            elif not d.significant or r.scope not in own or not own[r.scope].significant:
+                marks.append("·")
+            else:
+                marks.append("yes" if (d.value > 0) == (own[r.scope].value > 0) else "no")
+        detail = ", ".join(f"{r.scope} {r.difference.value / r.reference.mean:+.0%} ± {r.difference.half_width / r.reference.mean:.0%}"
+                           if r.reference.mean else f"{r.scope} {r.difference.value:+.3g} ± {r.difference.half_width:.2g}"
+                           for r in found)
+        decided = [m for m in marks if m in ("yes", "no")]
+        if not decided:
+            ours, agrees = ("window too short" if all(m == "?" for m in marks) else "not resolved"), "not resolved"
+        else:
+            ours = (f"holds on {marks.count('yes')}, contradicted on {marks.count('no')}, undecided on "
+                    f"{len(marks) - len(decided)} of {len(marks)}")
+            agrees = "yes" if marks.count("yes") == len(marks) else "no" if not marks.count("yes") else "partly"
+        verdicts.append(Verdict(stand_in, ours, agrees, detail))
+    return verdicts
+
+
+def pair_markdown(verdicts: Sequence[Verdict], claims: Sequence[PairClaim] = PAIR_CLAIMS) -> str:
+    relation = {c.pair + c.quantity: c.relation for c in claims}
+    lines = ["| first − second | quantity | paper | ours (elements; at 95 %) | agrees | "
+             "first − second per element (relative to second ± 95 %) | paper's words |", "|---|---|---|---|---|---|---|"]
+    for v in verdicts:
+        said = {"same": "one group", "further": "first changes it more"}[relation.get(v.claim.variant + v.claim.quantity, "same")]
+        lines.append(f"| {v.claim.variant} | {v.claim.label} | {said} | {v.ours} | {v.agrees} | {v.detail} | {v.claim.source} |")
+    return "\n".join(lines) + "\n"
 
 
 def directions_markdown(verdicts: Sequence[Verdict]) -> str:

@@ -156,3 +156,39 @@ def test_report_window_starts_after_the_start_up(tmp_path):
     for bad, why in (("-1", "a time in s >= 0"), ("soon", "a time in s >= 0"), ("5", "too few")):
         proc = subprocess.run([*sweep, "report", str(tmp_path), "--start", bad], capture_output=True, text=True, encoding="utf-8", env=env)
         assert proc.returncode == 2 and why in proc.stderr, proc.stderr
+
+
+def pair_row(first: str, second: str, quantity: str, scope: str, value: float, half_width: float) -> ComparisonRow:
+    return ComparisonRow(f"{first} − {second}", quantity, scope, UNUSED, UNUSED, Difference(value, half_width, value, True))
+
+
+def test_pair_claims_one_group_only_where_the_interval_is_narrower_than_the_gap():
+    """Fig. 14's two groups: μs,pg 0.1 alone beside both at 0.1. An element counts as 'one group' when
+    the pair difference is not significant and its interval is narrower than the other group's
+    distance (here μs,pg 0.1 from the reference); a significant pair difference is 'no'; an interval
+    wider than the gap decides nothing."""
+    from tsg_analysis.validation import PAIR_CLAIMS, pair_verdicts
+    claims = [c for c in PAIR_CLAIMS if (c.first, c.second, c.quantity) == ("mus_pg-0.1", "static-friction-0.1", SOLID_FRACTION)]
+    rows = [row("mus_pg-0.1", SOLID_FRACTION, k, -0.010, 0.002) for k in ("C1", "K1", "K2", "K3", "K4", "K5", "K6", "C2")]
+    pairs = [pair_row("mus_pg-0.1", "static-friction-0.1", SOLID_FRACTION, "C1", 0.001, 0.004),   # narrower: one group
+             pair_row("mus_pg-0.1", "static-friction-0.1", SOLID_FRACTION, "K1", 0.008, 0.004),   # significant: not
+             pair_row("mus_pg-0.1", "static-friction-0.1", SOLID_FRACTION, "K2", 0.001, 0.020)]   # wider than the gap
+    (v,) = pair_verdicts(rows, pairs, claims)
+    assert (v.ours, v.agrees) == ("holds on 1, contradicted on 1, undecided on 1 of 3", "partly")
+    (undecided,) = pair_verdicts(rows, pairs[2:], claims)
+    assert (undecided.ours, undecided.agrees) == ("not resolved", "not resolved")
+
+
+def test_pair_claims_further_needs_the_pair_difference_in_the_direction_of_the_change():
+    """Fig. 15: μr,pp 0.2 reduces the axial velocity more than μr,pg 0.2 — pp − pg significantly
+    negative where pp's own change is a reduction."""
+    from tsg_analysis.validation import PAIR_CLAIMS, pair_verdicts
+    claims = [c for c in PAIR_CLAIMS if (c.first, c.second) == ("mur_pp-0.2", "mur_pg-0.2")]
+    rows = [row("mur_pp-0.2", AXIAL_VELOCITY, k, -0.02, 0.005) for k in ("C1", "K1", "K2")]
+    pairs = [pair_row("mur_pp-0.2", "mur_pg-0.2", AXIAL_VELOCITY, "C1", -0.01, 0.004),   # reduced more: yes
+             pair_row("mur_pp-0.2", "mur_pg-0.2", AXIAL_VELOCITY, "K1", +0.01, 0.004),   # reduced less: no
+             pair_row("mur_pp-0.2", "mur_pg-0.2", AXIAL_VELOCITY, "K2", -0.001, 0.004)]  # not significant
+    (v,) = pair_verdicts(rows, pairs, claims)
+    assert (v.ours, v.agrees) == ("holds on 1, contradicted on 1, undecided on 1 of 3", "partly")
+    assert pair_verdicts(rows, pairs[:1], claims)[0].agrees == "yes"
+    assert pair_verdicts(rows, pairs[1:2], claims)[0].agrees == "no"

@@ -37,6 +37,7 @@ def test_the_kept_states_describe_themselves():
         state = states.read(STATES / f"seed-{seed}")
         assert (state.case, state.scale, state.seed) == ("periodic", "demo", seed)
         assert state.t_startup == 1.5 and state.step > 0 and "write_state 1" in state.command
+        assert state.time == pytest.approx(state.t_startup, rel=1e-5)   # carried by its restart file
 
 
 def test_each_fill_continues_its_state_and_loses_nothing(main_job):
@@ -51,7 +52,7 @@ def test_each_fill_continues_its_state_and_loses_nothing(main_job):
         times = np.concatenate([b["Time"] for b in blocks])
         # the run starts at the state's step and time and samples SAMPLE s from there
         assert steps[0] == state.step
-        assert times[0] == pytest.approx(state.t_startup, rel=1e-5)
+        assert times[0] == pytest.approx(state.time, rel=1e-6)
         assert times[-1] - times[0] == pytest.approx(SAMPLE, rel=0.02)
         count = int(re.search(r"fill_count equal (\d+)", (run_dir / "fill.vars").read_text()).group(1))
         assert all(np.all(b["Atoms"] == count) for b in blocks)
@@ -77,3 +78,42 @@ def test_the_summary_resolves_mass_flow_and_solid_fraction(main_job):
         if line.strip().startswith(("sensor_", "C1", "K1")):
             assert "window too short" not in line and "too few replicas" not in line, line
     assert (out / "report" / "report.md").is_file() and (out / "summary.txt").is_file()
+
+
+def test_a_state_continued_at_another_time_step_samples_the_planned_window(tmp_path):
+    """The case plans its phases in time from the time the restart file carries: a state made at
+    0.2 of the Rayleigh time, continued at 0.1, starts sampling at once (its start-up is over) and
+    samples the planned window in twice as many steps of half the state's step (dt ∝ dt_fraction)."""
+    sample, fraction = 0.002, 0.1
+    state = states.read(STATES / "seed-1")
+    out = tmp_path / "run"
+    proc = subprocess.run([str(ROOT / ".venv" / "bin" / "tsg-run-case"), "periodic", "--scale", "demo", "--from-state",
+                           str(state.path), "--np", "1", "--out", str(out), "-v", "t_sample", str(sample),
+                           "-v", "dt_fraction", str(fraction), "-v", "thermo_every", "400", "-v", "stats_every", "400"],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    log = (out / "log.lammps").read_text()
+    assert "without its simulation time" not in log
+    blocks = parse_thermo(log)
+    steps = np.concatenate([b["Step"] for b in blocks])
+    times = np.concatenate([b["Time"] for b in blocks])
+    state_dt = state.time / state.step            # the states ran at one time step from step 0
+    dt = state_dt * fraction / 0.2                # the demo's 0.2 of the Rayleigh time, halved
+    assert steps[0] == state.step and times[0] == pytest.approx(state.time, rel=1e-6)
+    # the sampling ends at t_startup + t_sample, counted from the state's time
+    assert steps[-1] - steps[0] == round((state.t_startup + sample - state.time) / dt)
+    assert times[-1] == pytest.approx(state.t_startup + sample, abs=dt)
+
+
+def test_a_state_without_its_time_is_refused(tmp_path):
+    """A state made before restart files carried their time could only be continued at step x dt,
+    wrong at another time step: it is refused with the command that makes it again."""
+    old = tmp_path / "old-state"
+    old.mkdir()
+    description = json.loads((STATES / "seed-1" / "state.json").read_text())
+    del description["time"]
+    (old / "state.json").write_text(json.dumps(description))
+    (old / "state.restart.xz").write_bytes(b"")
+    (old / "fill.vars").write_text((STATES / "seed-1" / "fill.vars").read_text())
+    with pytest.raises(states.StateError, match="before restart files carried their simulation time.*write_state 1"):
+        states.read(old)

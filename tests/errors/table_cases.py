@@ -154,5 +154,9 @@ CASES: list[BadInput] = [
     BadInput("cases.run.from-state-holdup", ("--holdup-g is not allowed with --from-state", "fill and machine"),
              why="the hold-up is the state's fill",
              command=runner("periodic", "--holdup-g", "3", "--from-state", "{root}/cases/states/periodic-demo/seed-1")),
+    BadInput("cases.run.from-state-model", ("-v cohesion 1 is not allowed with --from-state", "made with cohesion 0",
+                                            "contact history"),
+             why="the restart file keeps the cohesionless model's contact history; LIGGGHTS stops on another",
+             command=runner("periodic", "-v", "cohesion", "1", "--from-state", "{root}/cases/states/periodic-demo/seed-1")),
     *refused("full", "inside_records", 2, ("1 (a record per particle", "or 0"), "a switch: any other value would write no snapshot"),
 ]

@@ -6,10 +6,13 @@
 # analysis windows start after the detected steady start of the changed runs. The reference is the
 # same continuation with nothing changed. One run at a time on one core (≈ 3.5 min each), in the
 # order below: static friction split and applied to both first (the paper's central finding), then
-# rolling friction and restitution likewise, and high cohesion. A finished run (TSG-DONE) is skipped.
+# rolling friction and restitution likewise. A finished run (DONE) is skipped. The runs directory is
+# a sweep directory (runs.txt, DONE/FAILED markers), so that the report is tsg-sweep's:
 #   studies/validation/from-steady/run.sh [RUNS_DIR]       (default runs/from-steady)
-# The PSD width changes the fill and cannot start from these states: its row stays in
-# studies/validation/steady-psd.
+#   tsg-sweep report RUNS_DIR --out studies/validation/from-steady --start auto --parts 4
+# Two rows cannot start from these states and stay in studies/validation/steady and steady-psd: the
+# PSD width changes the fill, and high cohesion the contact model, whose per-contact history the
+# restart file keeps (the runner refuses both with --from-state).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
 runs="${1:-$root/runs/from-steady}"
@@ -27,17 +30,22 @@ settings=(
   "e_pp-0.9:e_pp 0.9"
   "e_pg-0.9:e_pg 0.9"
   "restitution-0.1:e_pp 0.1 e_pg 0.1"
-  "cohesion-high:cohesion 1"
 )
+mkdir -p "$runs"
+: > "$runs/runs.txt"
 for entry in "${settings[@]}"; do
   name="${entry%%:*}"
   variables=()
   for pair in $(echo "${entry#*:}" | xargs -n2 | tr ' ' '='); do variables+=(-v "${pair%=*}" "${pair#*=}"); done
   for seed in 1 2 3; do
     out="$runs/$name/seed-$seed"
-    if grep -q TSG-DONE "$out/log.lammps" 2>/dev/null; then continue; fi
-    mkdir -p "$runs/$name"
+    echo "$name/seed-$seed" >> "$runs/runs.txt"
+    if [ -f "$out/DONE" ]; then continue; fi
+    mkdir -p "$out"
+    rm -f "$out/FAILED"
+    status=0
     "$root/.venv/bin/tsg-run-case" periodic --scale demo --from-state "$root/cases/states/periodic-demo/seed-$seed" \
-      --np 1 --out "$out" -v t_sample "$sample" "${variables[@]}" > "$out.out" 2>&1 || echo "[from-steady] $out failed" >&2
+      --np 1 --out "$out" -v t_sample "$sample" "${variables[@]}" > "$out.out" 2>&1 || status=$?
+    if [ "$status" = 0 ]; then touch "$out/DONE"; else echo "$status" > "$out/FAILED"; echo "[from-steady] $out failed" >&2; fi
   done
 done
