@@ -54,12 +54,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from tsg_analysis.accuracy import (
+    RECOMMENDATION_TOLERANCES,
     PointError,
     RunCost,
     Tolerance,
     cheapest,
     point_errors,
     quantity_verdict,
+    recommend,
     replica_key_estimates,
     resolved_scopes,
     run_cost,
@@ -413,6 +415,7 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
                                                      "cheapest": choice.label if choice else None,
                                                      "message": choice.message if choice else None},
     }
+    result["recommendations"] = recommendations(points, quantities)
     (out / "accuracy.json").write_text(json.dumps(result, indent=1) + "\n")
     with open(out / "accuracy.csv", "w", newline="", encoding="utf-8") as stream:
         writer = csv.writer(stream)
@@ -440,6 +443,27 @@ def write_outputs(study: Study, points: list[Point], tolerance: Tolerance | None
                                   encoding="utf-8")
     figures(out, points, quantities)
     return result
+
+
+def recommendations(points: list[Point], quantities: list[str]) -> list[dict]:
+    """For a relative tolerance of 2 / 5 / 10 % and each quantity, the cheapest setting of the
+    time-step ladder shown to be within it (tsg_analysis.accuracy.recommend; cost per simulated
+    second, so that points of other windows compare)."""
+    reference = points[0]
+    ladder = {p.label: (p.cost.core_seconds_per_simulated_second if p.cost else math.nan, p.errors)
+              for p in points[1:] if p.setting == "dt_fraction" and p.errors}
+    if reference.cost is None or not ladder:
+        return []
+    rate = reference.cost.core_seconds_per_simulated_second
+    rows = []
+    for value in RECOMMENDATION_TOLERANCES:
+        tolerance = Tolerance(value, True)
+        for quantity in quantities:
+            choice = recommend(ladder, rate, quantity, tolerance)
+            rows.append({"tolerance": value, "quantity": quantity, "setting": choice.label,
+                         "core_hours_per_simulated_second": None if choice.cost is None else choice.cost / 3600,
+                         "message": choice.message})
+    return rows
 
 
 def markdown(study: Study, points: list[Point], quantities: list[str], controls_resolved: list[str],
@@ -483,6 +507,17 @@ def markdown(study: Study, points: list[Point], quantities: list[str], controls_
     if tolerance is not None and choice is not None:
         lines += [f"Tolerance {tolerance.text()} on {tolerance_quantity}, every scope, the upper end of the 95 % "
                   f"interval of the error: cheapest point **{choice.message}**.", ""]
+    rows = recommendations(points, quantities)
+    if rows:
+        lines += ["The time step per tolerance: the cheapest setting shown to be within it (every scope, the upper end "
+                  "of the 95 % interval of the error), a coarser point against the reference or the reference against "
+                  "every finer point:", "", "| tolerance | quantity | cheapest setting | core-hours per simulated s |",
+                  "|---|---|---|---|"]
+        for r in rows:
+            hours = r["core_hours_per_simulated_second"]
+            lines.append(f"| {r['tolerance']:.0%} | {r['quantity']} | {r['message']} | "
+                         f"{'-' if hours is None else f'{hours:.3g}'} |")
+        lines.append("")
     lines += ["## Per scope", "", "| point | quantity | scope | reference | point | error ± 95 % |", "|---|---|---|---|---|---|"]
     for p in points[1:]:
         for e in p.errors:

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tsg_analysis.run_files import read_zones
+from tsg_analysis.run_files import mesh_zones
 from tsg_cases import free_space
 from tsg_cases.case_parameters import CASE_DIR, defined_variables
 from tsg_cases.command_line import run_reporting
@@ -50,7 +50,7 @@ class PrepareError(ValueError):
 def feed_range(feed_at: str, mesh_dir: Path) -> tuple[float, float]:
     """Axial extent of the feed region: 'inlet' (2 mm from the inlet wall) or 'element:N' (the start
     of zone N of the meshes' zones.txt), FEED_LENGTH long (as cases/run_case.py)."""
-    zones = read_zones(mesh_dir / "zones.txt")
+    zones = mesh_zones(mesh_dir)
     if feed_at == "inlet":
         x0 = 0.002
     else:
@@ -62,7 +62,7 @@ def feed_range(feed_at: str, mesh_dir: Path) -> tuple[float, float]:
 
 
 def domain_length(mesh_dir: Path) -> float:
-    return float(read_zones(mesh_dir / "zones.txt").x_end[-1])
+    return float(mesh_zones(mesh_dir).x_end[-1])
 
 
 def fill_files(mesh_dir: Path, d_mean: float, psd_sigma: float, rho_p: float, holdup_g: float, seed: int) -> tuple[str, str]:

@@ -26,7 +26,7 @@ from typing import Any
 
 from tsg_analysis.liggghts_log import parse_thermo
 from tsg_analysis.run import Run
-from tsg_analysis.run_files import read_zones
+from tsg_analysis.run_files import mesh_zones
 from tsg_analysis.summary import summary_table
 from tsg_cases import prepared, states
 from tsg_cases.case_parameters import ParameterError, case_input, check_names, check_values, defined_variables
@@ -267,7 +267,7 @@ def run(args: argparse.Namespace) -> int:
         machine_clearances(scale["gap_factor"], float(effective["d_mean"]), float(effective.get("psd_sigma", 0.05)))
     mesh_tolerance = args.mesh_tolerance or scale["tolerance"]
     mesh_dir = build_meshes(CONFIGS[args.case], mesh_tolerance, clearances)
-    zones = read_zones(mesh_dir / "zones.txt")
+    zones = mesh_zones(mesh_dir)
     length = float(zones.x_end[-1])
     d_mean = float(effective["d_mean"])
     rho_p = float(effective["rho_p"])        # one source: materials.in's default or -v rho_p

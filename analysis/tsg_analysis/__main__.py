@@ -154,7 +154,7 @@ def _domains(args: argparse.Namespace) -> int:
     from .domains import TIME_BY_BALANCE, UNITS, compare_domains, domains_markdown, full_steady_start, machine_residence, section_holdup
     from .figures import plot_domain_elements, plot_rtd_comparison
     from .model import AXIAL_VELOCITY, SOLID_FRACTION, SPEED
-    from .run_files import read_zones
+    from .run_files import mesh_zones
 
     if not args.full_run.is_dir():
         raise UsageError(f"full_run {args.full_run}: no such directory")
@@ -162,7 +162,7 @@ def _domains(args: argparse.Namespace) -> int:
         raise UsageError("domains: give --periodic a,b,c (runs to compare) or --periodic-zones FILE (the hold-up only)")
     full_run = Run(args.full_run)
     periodic = _replicas(args.periodic) if args.periodic is not None else []
-    section = read_zones(args.periodic_zones) if args.periodic is None else periodic[0].zones  # a zones file, not a run
+    section = mesh_zones(args.periodic_zones) if args.periodic is None else periodic[0].zones  # a mesh directory, not a run
     # the full run fills from empty: its steady start is found on the section's hold-up and flux
     full_start = (full_steady_start(full_run, section) if args.full_start == "auto"
                   else _start("--full-start", args.full_start, full_run))
@@ -244,7 +244,7 @@ def parser() -> argparse.ArgumentParser:
     domains = commands.add_parser("domains", help="the periodic sub-domain against the full granulator")
     domains.add_argument("full_run", type=Path)
     domains.add_argument("--periodic", help="periodic run directories, replicas comma-separated (a,b,c)")
-    domains.add_argument("--periodic-zones", type=Path, help="zones.txt of the periodic domain (hold-up only)")
+    domains.add_argument("--periodic-zones", type=Path, help="the periodic domain's mesh directory or its zones.txt (hold-up only)")
     domains.add_argument("--out", type=Path, help="output directory for domains.md, rtd.png and elements.png")
     domains.add_argument("--full-start", default="auto",
                          help="steady start of the full run, s, or auto: the later of the starts of stationarity of the "

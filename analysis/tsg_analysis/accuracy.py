@@ -250,6 +250,32 @@ def cheapest(points: Mapping[str, tuple[float, Sequence[PointError]]], quantity:
     return Choice(None, None, f"none resolved to this tolerance ({detail or 'no points'})")
 
 
+RECOMMENDATION_TOLERANCES = (0.02, 0.05, 0.10)  # relative: the table "for a tolerance of 2 / 5 / 10 %"
+
+
+def recommend(points: Mapping[str, tuple[float, Sequence[PointError]]], reference_cost: float, quantity: str,
+              tolerance: Tolerance) -> Choice:
+    """The cheapest setting shown to be within `tolerance` of the best measured one: among the
+    points cheaper than the reference, the cheapest that meets it; else the reference itself when
+    every point dearer than it (a finer setting) meets it; else none, with why. points: label ->
+    (cost rate, errors), costs in one unit with `reference_cost`."""
+    cheaper = {label: v for label, v in points.items() if math.isfinite(v[0]) and v[0] < reference_cost}
+    dearer = {label: v for label, v in points.items() if math.isfinite(v[0]) and v[0] >= reference_cost}
+    verdicts = {label: quantity_verdict(errors, quantity, tolerance) for label, (_, errors) in points.items()}
+    confirmed = bool(dearer) and all(verdicts[label] == MEETS for label in dearer)
+    meeting = sorted((cost, label) for label, (cost, _) in cheaper.items() if verdicts[label] == MEETS)
+    if meeting and confirmed:
+        cost, label = meeting[0]
+        return Choice(label, cost, f"{label} ({cost:.4g} core-s per simulated s)")
+    if confirmed:
+        return Choice("reference", reference_cost, f"the reference ({reference_cost:.4g} core-s per simulated s; "
+                      f"every finer point within it: {', '.join(dearer)})")
+    if not dearer:
+        return Choice(None, None, "none: no finer point to confirm the reference against")
+    why = ", ".join(f"{label} {verdicts[label]}" for label in dearer if verdicts[label] != MEETS)
+    return Choice(None, None, f"none shown: the finer points do not confirm the reference ({why})")
+
+
 # ---- cost ------------------------------------------------------------------------------------------
 
 LOOP = re.compile(r"^Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", re.MULTILINE)

@@ -231,6 +231,13 @@ def read_zones(path: Path | str) -> Zones:
     return Zones(tuple(kinds), table[:, 1], table[:, 2], table[:, 3])
 
 
+def mesh_zones(mesh_dir: Path | str) -> Zones:
+    """The element zones of a mesh directory (tsg_meshes writes zones.txt beside the meshes): the
+    door to a mesh directory, as `Run` is to a run directory. A zones file itself is accepted too."""
+    path = Path(mesh_dir)
+    return read_zones(path / "zones.txt" if path.is_dir() else path)
+
+
 def _records(path: Path, magic: str) -> tuple[str, list[str], list[str], list[str]]:
     """A records file's complete lines, read issues, header lines and column names; refused without
     its magic header line."""

@@ -19,6 +19,7 @@ from tsg_analysis.accuracy import (
     family_factor,
     point_errors,
     quantity_verdict,
+    recommend,
     resolved_scopes,
     run_cost,
     sampling_ends,
@@ -129,6 +130,25 @@ def test_cheapest_setting_that_meets_the_tolerance():
                     "solid fraction", tolerance)
     assert none.label is None
     assert none.message == "none resolved to this tolerance (1 fails, 1 undecided, 1 window too short)"
+
+
+def test_recommended_time_step_needs_the_finer_points_to_confirm_the_reference():
+    """A coarser (cheaper) point is offered only when it meets the tolerance against the reference
+    and every finer (dearer) point shows the reference itself within it; otherwise the reference,
+    or none with the verdicts that stop it."""
+    tolerance = Tolerance.parse("5%")
+    meets, undecided, fails = [fidelity(0.1, 0.1)], [fidelity(0.3, 0.4)], [fidelity(2.0, 0.5)]
+    reference_cost = 10.0
+    ladder = {"dt_fraction 0.05": (20.0, meets), "dt_fraction 0.2": (5.0, meets), "dt_fraction 0.3": (3.3, fails)}
+    choice = recommend(ladder, reference_cost, "solid fraction", tolerance)
+    assert (choice.label, choice.cost) == ("dt_fraction 0.2", 5.0)                  # 0.3 fails, 0.2 is next
+    only_finer = recommend({"dt_fraction 0.05": (20.0, meets), "dt_fraction 0.2": (5.0, fails)}, reference_cost,
+                           "solid fraction", tolerance)
+    assert (only_finer.label, only_finer.cost) == ("reference", reference_cost)
+    unconfirmed = recommend({"dt_fraction 0.05": (20.0, undecided), "dt_fraction 0.2": (5.0, meets)}, reference_cost,
+                            "solid fraction", tolerance)
+    assert unconfirmed.label is None and "dt_fraction 0.05 undecided" in unconfirmed.message
+    assert recommend({"dt_fraction 0.2": (5.0, meets)}, reference_cost, "solid fraction", tolerance).label is None
 
 
 @pytest.mark.parametrize("text", ["0%", "-5%", "abc", "nan", "0"])

@@ -22,7 +22,7 @@ def test_periodic_reference_runs_as_typed(tmp_path, ranks):
     assert FILL.is_file() and FILL.with_name(FILL.name + ".data").is_file(), \
         f"{FILL} is missing: ./tsg setup makes it (step 'paper-scale inputs of the case files')"
     prefix = [os.environ.get("TSG_MPIEXEC", "mpirun"), "-np", "2", "--oversubscribe", "--allow-run-as-root"] if ranks == 2 else []
-    # 100 start-up and 100 sampling steps of 0.498 us, a thermo row every 50
+    # 50 us of start-up and 50 us of sampling at 0.498 us a step (about 100 + 100 steps), a thermo row every 50
     command = prefix + [LMP, "-in", "in.tsg_periodic", "-var", "out_dir", str(tmp_path), "-var", "t_startup", "5e-5",
                         "-var", "t_sample", "5e-5", "-var", "thermo_every", "50"]
     proc = subprocess.run(command, cwd=ROOT / "cases", capture_output=True, text=True, timeout=1200,
@@ -39,7 +39,11 @@ def test_periodic_reference_runs_as_typed(tmp_path, ranks):
     mass_g = float(re.search(r"# ([\d.]+) g at rho_p", FILL.read_text()).group(1))
     assert 2.3 <= mass_g < 2.31 and count > 50000                   # the paper's hold-up of 400 um particles
     thermo = parse_thermo(log)
-    assert thermo[-1]["Step"][-1] == 200 and thermo[-1]["Atoms"][-1] == count and thermo[-1]["escaped"][-1] == 0
+    # the plan is in time: the run ends at the step nearest to t_startup + t_sample = 100 us
+    dt = float(re.search(r"^timestep (\S+)", log, re.M).group(1))
+    assert 4.9e-7 < dt < 5.0e-7                                       # 0.1 of the Rayleigh time of 400 um particles
+    assert thermo[-1]["Step"][-1] == round(1e-4 / dt)
+    assert thermo[-1]["Atoms"][-1] == count and thermo[-1]["escaped"][-1] == 0
     assert f"TSG-DONE escaped 0 particles {count}" in log
     for name in ("residence.txt", "massflow.txt", "elements.txt"):
         assert (tmp_path / name).is_file(), name                      # outputs in out_dir, none in cases/
