@@ -268,8 +268,11 @@ def fill_positions(d_mean: float, fill_top: float, clearance: float) -> np.ndarr
     clear = profile.distance(np.column_stack((u, v))) > 0.6 * d_mean
     chosen = np.flatnonzero(keep)[outside & clear]
     sites = np.column_stack((x[chosen], y[chosen], z[chosen]))
-    # each site moved by up to ±JITTER x d (seeded): the x layers of the lattice do not move in step
-    return sites + np.random.default_rng(JITTER_SEED).uniform(-JITTER * d_mean, JITTER * d_mean, sites.shape)
+    # each site moved by up to ±JITTER x d (seeded): the x layers of the lattice do not move in step;
+    # x wrapped into the periodic box (create_atoms single drops a site outside it)
+    sites += np.random.default_rng(JITTER_SEED).uniform(-JITTER * d_mean, JITTER * d_mean, sites.shape)
+    sites[:, 0] = np.mod(sites[:, 0], SLICE_LENGTH)
+    return sites
 
 
 def fill_in(positions: np.ndarray) -> str:

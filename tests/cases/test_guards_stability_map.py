@@ -55,6 +55,7 @@ def test_the_paddle_is_closed_with_outward_normals_and_its_tips_keep_the_clearan
     u, v = sites[:, 2], -sites[:, 1]
     assert (np.hypot(u, v) > profile.radius(np.arctan2(v, u))).all()   # every particle outside the paddle
     assert (np.hypot(sites[:, 1], sites[:, 2]) < stability_map.BARREL_RADIUS - 0.5e-3).all()
+    assert ((sites[:, 0] >= 0) & (sites[:, 0] < stability_map.SLICE_LENGTH)).all()   # none dropped by lmp
 
 
 def test_map_smoke_run_records_a_stable_and_an_unstable_step(tmp_path):
@@ -67,7 +68,7 @@ def test_map_smoke_run_records_a_stable_and_an_unstable_step(tmp_path):
     rayleigh = math.pi * 0.0005 * math.sqrt(1263 / 1.7e7) / (0.1631 * 0.25 + 0.8766)
     assert runs[0.1]["estimate"] == pytest.approx(rayleigh, rel=1e-3)
     assert runs[0.1]["timestep"] == pytest.approx(0.1 * rayleigh, rel=1e-3)
-    assert runs[0.1]["stable"] and runs[0.1]["particles"] > 20
+    assert runs[0.1]["stable"] and runs[0.1]["particles"] == len(stability_map.fill_positions(0.001, 0.0, 0.00044))
     assert 0 <= runs[0.1]["max_pair_overlap"] < 0.1
     assert 0 < max(runs[0.1]["max_wall_overlap"].values()) < 0.1
     # the base clearance (0.44 mm) is narrower than its 1 mm particles: a squeeze case, whose speed
