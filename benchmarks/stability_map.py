@@ -72,7 +72,7 @@ ROOT_RADIUS = 6.90e-3 * BARREL_RADIUS / BORE_RADIUS   # m, the ConsiGma-1 kneadi
 SEGMENTS = 180             # barrel facets around the circumference (chord sag 0.9 um)
 PADDLE_STEP_DEG = 1.0      # the paddle profile sampled about every 1 deg and at its arcs' ends (chord sag < 0.3 um)
 PADDLE_ROWS = 8            # the paddle's facets split along x (LIGGGHTS refuses triangles with an angle < 0.26 deg)
-JITTER, JITTER_SEED = 0.02, 1  # fill sites moved by up to ±0.02 d (the lattice's gaps are 0.05 d)
+JITTER, JITTER_SEED = 0.02, 1  # fill sites moved by up to ±0.02 d (the lattice's gaps are 0.05 d); --seed
 PAPER_RATIO = 0.175 / 0.6  # the paper's machine: 0.175 mm between the screws, particles up to 0.6 mm
 
 # the extreme cases of issue 14 item 1, as -var overrides of the case parameters, and the tip
@@ -250,7 +250,7 @@ def paddle_stl(clearance: float = CLEARANCE) -> str:
     return stl("paddle", facets)
 
 
-def fill_positions(d_mean: float, fill_top: float, clearance: float) -> np.ndarray:
+def fill_positions(d_mean: float, fill_top: float, clearance: float, seed: int = JITTER_SEED) -> np.ndarray:
     """Sites of a simple cubic lattice (spacing about 1.05 d that fits the periodic length a whole
     number of times) in the barrel (centres 0.6 d inside it), below z = fill_top x radius - 0.6 d and
     at least 0.6 d outside the paddle, in the order x, then y, then z fastest, each moved at random by
@@ -270,7 +270,7 @@ def fill_positions(d_mean: float, fill_top: float, clearance: float) -> np.ndarr
     sites = np.column_stack((x[chosen], y[chosen], z[chosen]))
     # each site moved by up to ±JITTER x d (seeded): the x layers of the lattice do not move in step;
     # x wrapped into the periodic box (create_atoms single drops a site outside it)
-    sites += np.random.default_rng(JITTER_SEED).uniform(-JITTER * d_mean, JITTER * d_mean, sites.shape)
+    sites += np.random.default_rng(seed).uniform(-JITTER * d_mean, JITTER * d_mean, sites.shape)
     sites[:, 0] = np.mod(sites[:, 0], SLICE_LENGTH)
     return sites
 
@@ -299,6 +299,7 @@ class Run:
     max_wall_overlap: dict = field(default_factory=dict)  # mesh -> δ/R
     max_speed: float = math.nan    # m/s
     seconds: float = 0.0
+    seed: int = JITTER_SEED        # of the fill's jitter
     clearance: float = math.nan    # m, paddle tip to barrel
     gap_ratio: float = math.nan    # clearance / largest particle
     squeeze: bool = False          # clearance < smallest particle: overlap and speed guards off (guards.in)
@@ -335,14 +336,15 @@ def ledger_of(rows: dict[str, np.ndarray], simulated: float, log: str) -> dict:
             "first_crossings": crossings[:3]}
 
 
-def run_scene(case: str, fraction: float, window: float, workdir: Path, nprocs: int = 1, every: int = 100) -> Run:
+def run_scene(case: str, fraction: float, window: float, workdir: Path, nprocs: int = 1, every: int = 100,
+              seed: int = JITTER_SEED) -> Run:
     workdir.mkdir(parents=True, exist_ok=True)
     shape = geometry(case)
     (workdir / "barrel.stl").write_text(barrel_stl())
     (workdir / "paddle.stl").write_text(paddle_stl(shape.clearance))
     variables = {k: v for k, v in dict(DEFAULTS, **CASES[case]).items() if k not in SCENE_PARAMETERS}
     d_mean, fill_top = float(variables["d_mean"]), float(variables["fill_top"])   # type: ignore[arg-type]
-    (workdir / "fill.in").write_text(fill_in(fill_positions(d_mean, fill_top, shape.clearance)))
+    (workdir / "fill.in").write_text(fill_in(fill_positions(d_mean, fill_top, shape.clearance, seed)))
     (workdir / "in.scene").write_text(SCENE.format(
         case_dir=ROOT / "cases", length=SLICE_LENGTH, box=BARREL_RADIUS + 0.001, radius=BARREL_RADIUS,
         fraction=fraction, every=every, window=window,
@@ -361,7 +363,7 @@ def run_scene(case: str, fraction: float, window: float, workdir: Path, nprocs: 
     log_path = workdir / "log.lammps"
     log = log_path.read_text(errors="replace") if log_path.exists() else proc.stdout
     run = Run(case=case, fraction=fraction, stable=False, reason="", seconds=seconds, clearance=shape.clearance,
-              gap_ratio=shape.ratio, squeeze=shape.squeeze)
+              gap_ratio=shape.ratio, squeeze=shape.squeeze, seed=seed)
     estimate = re.search(r"critical step estimate (\S+) s .*?time step (\S+) s", log)
     if estimate:
         run.estimate, run.timestep = float(estimate.group(1)), float(estimate.group(2))
@@ -437,9 +439,9 @@ def largest_stable(stable_at, fractions: list[float], bisections: int, floor: fl
 
 
 def map_case(case: str, fractions: list[float], bisections: int, window: float, out: Path, nprocs: int,
-             runs: list[Run], floor: float | None = None) -> dict:
+             runs: list[Run], floor: float | None = None, seed: int = JITTER_SEED) -> dict:
     def stable_at(fraction: float) -> bool:
-        run = run_scene(case, fraction, window, out / case / f"f{fraction:.5g}", nprocs)
+        run = run_scene(case, fraction, window, out / case / f"f{fraction:.5g}", nprocs, seed=seed)
         runs.append(run)
         ledger = run.ledger
         print(f"  {case:14s} f = {fraction:<8.4g} {'stable' if run.stable else 'UNSTABLE: ' + run.reason:32s} "
@@ -448,15 +450,15 @@ def map_case(case: str, fractions: list[float], bisections: int, window: float, 
               f"crossings {ledger.get('crossings', 0)}  ({run.seconds:.0f} s)", flush=True)
         return run.stable
     low, high = largest_stable(stable_at, fractions, bisections, floor)
-    return summarise(case, low, high, [r for r in runs if r.case == case], window)
+    return summarise(case, low, high, [r for r in runs if r.case == case], window, seed)
 
 
-def summarise(case: str, low: float, high: float, runs: list[Run], window: float) -> dict:
+def summarise(case: str, low: float, high: float, runs: list[Run], window: float, seed: int = JITTER_SEED) -> dict:
     shape = geometry(case)
     unstable = [r for r in runs if math.isclose(r.fraction, high)]
     stable = [r for r in runs if r.stable]
     return {"case": case, "clearance": shape.clearance, "gap_ratio": shape.ratio, "squeeze": shape.squeeze,
-            "window_s": window, "largest_stable_fraction": low, "smallest_unstable_fraction": high,
+            "window_s": window, "seed": seed, "largest_stable_fraction": low, "smallest_unstable_fraction": high,
             # half the largest stable step, at most the 20 % the guards allow
             "safe_fraction": min(0.2, low / 2) if math.isfinite(low) else math.nan,
             "unstable_reason": unstable[0].reason if unstable else "",
@@ -464,22 +466,65 @@ def summarise(case: str, low: float, high: float, runs: list[Run], window: float
             "stable_fractions_with_crossings": sorted(r.fraction for r in stable if r.ledger.get("crossings", 0) > 0)}
 
 
+RESOLVED_DEPTH = 0.1   # deepest particle-wall δ/R within this of the finest stable run's
+RESOLVED_RATE = 2.0    # and squeezes begun per second within this factor of it (or both none)
+
+
+def enrich(entry: dict, runs: list[Run]) -> dict:
+    """What the runs of a case say beyond its edge: `stable_above_edge`, the stable fractions above the
+    smallest unstable one (stability need not be monotone in f), and `ledger_resolved_up_to`, the
+    largest stable fraction up to the edge at which this and every stable run below it squeeze as the
+    finest stable run does (RESOLVED_DEPTH, RESOLVED_RATE): the time step leaves the squeezes as they are."""
+    mine = sorted((r for r in runs if r.case == entry["case"] and r.stable and r.ledger), key=lambda r: r.fraction)
+    high, low = entry["smallest_unstable_fraction"], entry["largest_stable_fraction"]
+    resolved = math.nan
+    if mine and math.isfinite(low):
+        finest = mine[0]
+
+        def depth(r: Run) -> float:
+            return max(r.max_wall_overlap.values(), default=math.nan)
+
+        def agrees(r: Run) -> bool:
+            rate, reference = r.ledger["events_per_s"], finest.ledger["events_per_s"]
+            same_rate = rate == reference == 0 or (reference > 0 and 1 / RESOLVED_RATE <= rate / reference <= RESOLVED_RATE)
+            return abs(depth(r) - depth(finest)) <= RESOLVED_DEPTH and same_rate
+        for r in mine:
+            if r.fraction > low * (1 + 1e-9) or not agrees(r):
+                break
+            resolved = r.fraction
+    return dict(entry, stable_above_edge=sorted(r.fraction for r in mine if r.fraction > high),
+                ledger_resolved_up_to=resolved)
+
+
 def _at(runs: list[Run], case: str, fraction: float) -> Run | None:
     at = [r for r in runs if r.case == case and math.isfinite(fraction) and math.isclose(r.fraction, fraction)]
     return at[0] if at else None
 
 
+def _rungs(runs: list[Run]) -> list[float]:
+    """The ladder's rungs among the runs: the fractions 0.05 x 2^k (halved ones included), not the bisections'."""
+    return sorted({r.fraction for r in runs if math.isclose(math.log2(r.fraction / 0.05), round(math.log2(r.fraction / 0.05)),
+                                                           abs_tol=1e-9)})
+
+
+SHORT_REASONS = {"energy runaway": "runaway", "kinetic-energy blow-up": "speed", "overlap guard": "overlap",
+                 "lost atoms": "lost", "NaN": "NaN"}
+
+
 def table(summary: list[dict], runs: list[Run], reference: float) -> str:
-    lines = ["| case | gap (mm) | gap / d_max | squeeze | largest stable f | smallest unstable f | why | safe f | "
-             "estimate (s) |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| case | gap (mm) | gap / d_max | squeeze | largest stable f | smallest unstable f | why | "
+             "stable above it | safe f | ledger as at the finest f up to | estimate (s) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for s in summary:
         r = _at(runs, s["case"], reference)
+        above = ", ".join(f"{f:.3g}" for f in s.get("stable_above_edge", [])) or "–"
         lines.append(f"| {s['case']} | {1e3 * s.get('clearance', math.nan):.3g} | {s.get('gap_ratio', math.nan):.3g} | "
                      f"{'yes' if s.get('squeeze') else 'no'} | {s['largest_stable_fraction']:.3g} | "
-                     f"{s['smallest_unstable_fraction']:.3g} | {s.get('unstable_reason', '') or '–'} | "
-                     f"{s['safe_fraction']:.3g} | {r.estimate if r else math.nan:.3g} |")
+                     f"{s['smallest_unstable_fraction']:.3g} | {s.get('unstable_reason', '') or '–'} | {above} | "
+                     f"{s['safe_fraction']:.3g} | {s.get('ledger_resolved_up_to', math.nan):.3g} | "
+                     f"{r.estimate if r else math.nan:.3g} |")
     lines += ["", f"Squeeze ledger and overlaps at f = {reference:g} and at the largest stable f:", "",
-              "| case | f | pp δ/R | pg δ/R (paddle, barrel) | events | events/s | peak wall, pair δ/R (events) | "
+              "| case | f | pp δ/R | pg δ/R (paddle, barrel) | events (open) | begun per s | peak wall, pair δ/R (events) | "
               "max release (m/s) | fast | crossings | max energy excess |",
               "|---|---|---|---|---|---|---|---|---|---|---|"]
     for s in summary:
@@ -488,12 +533,28 @@ def table(summary: list[dict], runs: list[Run], reference: float) -> str:
             if r is None:
                 continue
             g = r.ledger
-            ledger = (f"{g['events']} | {g['events_per_s']:.3g} | {g['peak_wall']:.3g}, {g['peak_pair']:.3g} | "
+            ledger = (f"{g['events']} ({g['open']}) | {g['events_per_s']:.3g} | {g['peak_wall']:.3g}, {g['peak_pair']:.3g} | "
                       f"{g['max_release_speed']:.3g} | {r.fast_events} | {g['crossings']} | {g['max_energy_excess']:.3g}"
                       if g else "– | – | – | – | – | – | –")
             lines.append(f"| {s['case']} | {r.fraction:.3g} | {r.max_pair_overlap:.3g} | "
                          f"{r.max_wall_overlap.get('paddle', math.nan):.3g}, {r.max_wall_overlap.get('barrel', math.nan):.3g} | "
                          f"{ledger} |")
+    rungs = _rungs(runs)
+    lines += ["", "Along the ladder: squeezes begun per second and the deepest particle-wall δ/R (check/contact) of "
+              "each run; an unstable run: why it stopped:", "",
+              "| case | " + " | ".join(f"f = {f:g}" for f in rungs) + " |", "|---|" + "---|" * len(rungs)]
+    for s in summary:
+        cells = []
+        for f in rungs:
+            r = _at(runs, s["case"], f)
+            if r is None:
+                cells.append("")
+            elif not r.stable:
+                cells.append(SHORT_REASONS.get(r.reason, r.reason))
+            else:
+                cells.append(f"{r.ledger.get('events_per_s', math.nan):.3g}/s, "
+                             f"{max(r.max_wall_overlap.values(), default=math.nan):.2g}")
+        lines.append(f"| {s['case']} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -502,47 +563,49 @@ def figure(summary: list[dict], runs: list[Run], reference: float, path: Path) -
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     names = [s["case"] for s in summary]
-    labels = [f"{s['case']}\n{s.get('gap_ratio', math.nan):.2g}" for s in summary]
+    labels = [f"{s['case']} ({s.get('gap_ratio', math.nan):.2g})" for s in summary]
     x = np.arange(len(names))
-    fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(10, 9), sharex=True)
+    fig, ((top, overlaps), (events, depth)) = plt.subplots(2, 2, figsize=(14, 9))
     top.bar(x, [s["largest_stable_fraction"] for s in summary], color="tab:green", label="largest stable")
     top.scatter(x, [s["smallest_unstable_fraction"] for s in summary], color="tab:red", marker="v",
                 label="smallest unstable", zorder=3)
+    for k, s in enumerate(summary):
+        above = s.get("stable_above_edge", [])
+        top.scatter([x[k]] * len(above), above, color="tab:green", marker="o", facecolors="none",
+                    label="stable above it" if above and "stable above it" not in top.get_legend_handles_labels()[1] else None)
     top.axhline(0.2, color="k", lw=0.8, ls="--", label="guard: 0.2")
+    top.axhline(0.1, color="k", lw=0.8, ls=":", label="the cases: 0.1")
     top.set_yscale("log")
     top.set_ylabel("dt / check/contact estimate")
-    top.legend(fontsize=8)
+    top.set_xticks(x, labels, rotation=45, ha="right", fontsize=8)
+    top.legend(fontsize=7)
     at = [_at(runs, name, reference) for name in names]
-    pp = [r.max_pair_overlap if r else math.nan for r in at]
-    paddle = [r.max_wall_overlap.get("paddle", math.nan) if r else math.nan for r in at]
-    barrel = [r.max_wall_overlap.get("barrel", math.nan) if r else math.nan for r in at]
-    middle.bar(x - 0.25, pp, 0.25, label="particle-particle")
-    middle.bar(x, paddle, 0.25, label="paddle")
-    middle.bar(x + 0.25, barrel, 0.25, label="barrel")
-    middle.axhline(0.5, color="k", lw=0.8, ls="--", label="passing cases' overlap guard: 0.5")
-    middle.set_ylabel(f"largest δ/R at f = {reference:g}")
-    middle.legend(fontsize=8)
-    rate = [r.ledger.get("events_per_s", math.nan) if r and r.ledger else math.nan for r in at]
-    release = [r.ledger.get("max_release_speed", math.nan) if r and r.ledger else math.nan for r in at]
-    bottom.bar(x, [v if v > 0 else math.nan for v in rate], color="tab:purple", label="squeeze events per second")
-    for k, v in enumerate(rate):
-        if v == 0:
-            bottom.annotate("0", (x[k], 1), ha="center", va="bottom", fontsize=8)
-    bottom.set_yscale("log")
-    bottom.set_ylabel(f"events / s at f = {reference:g}")
-    speed = bottom.twinx()
-    speed.scatter(x, release, color="tab:orange", marker="D", label="max release speed", zorder=3)
-    speed.set_ylabel("max release speed (m/s)")
-    bottom.legend(loc="upper left", fontsize=8)
-    speed.legend(loc="upper right", fontsize=8)
-    bottom.set_xticks(x, labels, rotation=45, ha="right", fontsize=8)
-    bottom.set_xlabel("case, gap / d_max")
+    overlaps.bar(x - 0.25, [r.max_pair_overlap if r else math.nan for r in at], 0.25, label="particle-particle")
+    overlaps.bar(x, [r.max_wall_overlap.get("paddle", math.nan) if r else math.nan for r in at], 0.25, label="paddle")
+    overlaps.bar(x + 0.25, [r.max_wall_overlap.get("barrel", math.nan) if r else math.nan for r in at], 0.25, label="barrel")
+    overlaps.axhline(0.5, color="k", lw=0.8, ls="--", label="passing cases' overlap guard: 0.5")
+    overlaps.set_ylabel(f"largest δ/R at f = {reference:g}")
+    overlaps.set_xticks(x, labels, rotation=45, ha="right", fontsize=8)
+    overlaps.legend(fontsize=7)
+    for k, name in enumerate(names):
+        mine = sorted((r for r in runs if r.case == name and r.stable and r.ledger), key=lambda r: r.fraction)
+        if not any(r.ledger.get("events_per_s", 0) > 0 for r in mine):
+            continue
+        style = dict(marker="o", ms=3, lw=1, color=plt.get_cmap("tab20")(k % 20), label=name)
+        events.plot([r.fraction for r in mine], [r.ledger["events_per_s"] for r in mine], **style)
+        depth.plot([r.fraction for r in mine], [max(r.max_wall_overlap.values(), default=math.nan) for r in mine], **style)
+    for axis, label in ((events, "squeezes begun per simulated second"), (depth, "deepest particle-wall δ/R")):
+        axis.set_xscale("log")
+        axis.set_xlabel("dt / check/contact estimate (stable runs)")
+        axis.set_ylabel(label)
+        axis.legend(fontsize=7, ncol=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=110)
 
 
 def write(out: Path, header: dict, summary: list[dict], runs: list[Run], reference: float) -> str:
     out.mkdir(parents=True, exist_ok=True)
+    summary = [enrich(entry, runs) for entry in summary]
     (out / "stability_map.json").write_text(json.dumps(
         dict(header, summary=summary, runs=[asdict(r) for r in runs]), indent=1))
     text = table(summary, runs, reference)
@@ -575,6 +638,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--bisections", type=int, default=3)
     parser.add_argument("--floor", type=float, default=0.0125,
                         help="when the smallest fraction is unstable, halve it down to this one")
+    parser.add_argument("--seed", type=int, default=JITTER_SEED, help="of the fill's jitter (the same for every run)")
     parser.add_argument("--window", type=float, default=0.02, help="simulated time per run, s")
     parser.add_argument("--np", type=int, default=1)
     parser.add_argument("--out", type=Path, default=None)
@@ -594,15 +658,17 @@ def main(argv: list[str] | None = None) -> int:
     out = args.out or Path(tempfile.mkdtemp(prefix="stability_map_"))
     out.mkdir(parents=True, exist_ok=True)
     reference = 0.1 if 0.1 in fractions else min(fractions)
-    header = {"window_s": args.window, "fractions": fractions, "bisections": args.bisections, "floor": args.floor}
+    header = {"window_s": args.window, "fractions": fractions, "bisections": args.bisections, "floor": args.floor,
+              "seed": args.seed}
     runs: list[Run] = []
     summary = []
     for case in cases:
         try:
-            summary.append(map_case(case, fractions, args.bisections, args.window, out, args.np, runs, args.floor))
+            summary.append(map_case(case, fractions, args.bisections, args.window, out, args.np, runs, args.floor,
+                                    args.seed))
         except RuntimeError as failure:   # not instability: report it and go on with the other cases
             print(f"  {case}: {failure}", flush=True)
-            summary.append(dict(summarise(case, math.nan, math.nan, [], args.window), error=str(failure)))
+            summary.append(dict(summarise(case, math.nan, math.nan, [], args.window, args.seed), error=str(failure)))
         (out / "stability_map.json").write_text(json.dumps(
             dict(header, summary=summary, runs=[asdict(r) for r in runs]), indent=1))
     print(write(out, header, summary, runs, reference))
