@@ -40,7 +40,7 @@ def test_periodic_reference_runs_as_typed(tmp_path, ranks):
     assert 2.3 <= mass_g < 2.31 and count > 50000                   # the paper's hold-up of 400 um particles
     thermo = parse_thermo(log)
     # the plan is in time: the run ends at the step nearest to t_startup + t_sample = 100 us
-    dt = float(re.search(r"^timestep (\S+)", log, re.M).group(1))
+    dt = float(re.search(r"^check/contact: critical step estimate \S+ s \(.*?\); time step (\S+) s", log, re.M).group(1))
     assert 4.9e-7 < dt < 5.0e-7                                       # 0.1 of the Rayleigh time of 400 um particles
     assert thermo[-1]["Step"][-1] == round(1e-4 / dt)
     assert thermo[-1]["Atoms"][-1] == count and thermo[-1]["escaped"][-1] == 0
