@@ -78,8 +78,8 @@ include ${case_dir}/include/thermo.in
 # one thermo interval first, so that the timed run below has no set-up in it (neighbour lists, the
 # screws' triangles and trees, the fixes' set-up); a profiler is switched on between the two
 run ${thermo_every} post no
-variable perf_control index none
-if "${perf_control} != none" then "shell sh -c 'echo enable > ${perf_control}'"
+variable perf_on index 0           # 1: perf's control FIFO is ${perf_control}
+if "${perf_on} == 1" then "shell sh -c 'echo enable > ${perf_control}'"
 run ${bench_steps} pre no
 """
 
@@ -231,7 +231,7 @@ def perf_profile(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[
     wrapper = ["perf", "record", "-q", "-F", "499", "-e", "cpu-clock", "-D", "-1", "--control", f"fifo:{control}",
                "-o", str(out), "--"]
     bench(label, lmp, np_ranks, restart, case, steps, thermo_every, workdir, wrapper,
-          {**extra, "perf_control": str(control)})
+          {**extra, "perf_on": 1, "perf_control": str(control)})
     report = subprocess.run(["perf", "report", "--stdio", "-i", str(out), "--sort", "symbol", "--percent-limit", "0.7"],
                             capture_output=True, text=True).stdout
     return "\n".join(line for line in report.splitlines() if line.strip() and not line.startswith("#"))
