@@ -79,7 +79,7 @@ include ${case_dir}/include/thermo.in
 # screws' triangles and trees, the fixes' set-up); a profiler is switched on between the two
 run ${thermo_every} post no
 variable perf_on index 0           # 1: perf's control FIFO is ${perf_control}
-if "${perf_on} == 1" then "shell sh -c 'echo enable > ${perf_control}'"
+if "${perf_on} == 1" then "shell echo enable > ${perf_control}"
 run ${bench_steps} pre no
 """
 
