@@ -110,6 +110,8 @@ class Result:
     breakdown: dict[str, float]   # share of the loop time, %
     fix_ms: float                 # corotating fix's own contact handling, ms/step (slowest rank)
     dt: float
+    neighbours_per_particle: float = float("nan")   # pair neighbours per particle at the end of the run
+    neighbour_builds: int = -1                        # neighbour-list builds during the run
 
     @property
     def core_s_per_step(self) -> float:
@@ -188,8 +190,11 @@ def parse(label: str, np_ranks: int, log: str, dt: float) -> Result:
         found = re.findall(rf"^{name}\s+time \(%\) = \S+ \((\S+)\)", log, re.M)
         shares[name] = float(found[-1]) if found else float("nan")
     fix = re.findall(r"contact handling (\S+) ms/step", log)
+    neighbours = re.findall(r"^Ave neighs/atom = (\S+)", log, re.M)
+    builds = re.findall(r"^Neighbor list builds = (\d+)", log, re.M)
     return Result(label, np_ranks, int(loop[1]), int(loop[2]), float(loop[0]), shares,
-                  float(fix[-1]) if fix else float("nan"), dt)
+                  float(fix[-1]) if fix else float("nan"), dt,
+                  float(neighbours[-1]) if neighbours else float("nan"), int(builds[-1]) if builds else -1)
 
 
 def bench(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, object], steps: int, thermo_every: int,
@@ -350,11 +355,13 @@ def main(argv: list[str] | None = None) -> int:
         args.json.write_text(json.dumps({
             "command": [sys.executable] + sys.argv, "machine_at_start": machine_at_start, "machine_at_end": machine_at_end,
             "scale": args.scale, "steps": args.steps, "repeat": args.repeat, "restart": str(restart),
-            "lmp": {"baseline": args.baseline_lmp, "this": args.lmp}, "time_step_s": float(case["dt"]),
+            "lmp": {"baseline": args.baseline_lmp, "this": args.lmp}, "case_variables": extra,
+            "time_step_s": float(case["dt"]),
             "runs": [{"label": r.label, "np": r.np, "steps": r.steps, "atoms": r.atoms, "loop_s": r.loop_s,
                       "ms_per_step": 1e3 * r.loop_s / r.steps, "core_ms_per_step": 1e3 * r.core_s_per_step,
                       "particle_steps_per_core_s": r.particle_steps_per_core_s,
                       "core_hours_per_sim_s": r.core_hours_per_sim_s, "fix_ms_per_step": r.fix_ms,
+                      "neighbours_per_particle": r.neighbours_per_particle, "neighbour_builds": r.neighbour_builds,
                       "breakdown_percent": r.breakdown} for rs in results.values() for r in rs],
             "summary": summary,
             "collected": "runs read from the logs an earlier invocation left in --work (its command and machine are in "

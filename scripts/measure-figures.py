@@ -159,7 +159,17 @@ def render() -> str:
         lines += collected_note(data, MEASURED / f"{name}_cost.log")
         lines += ["    " + " ".join(shlex.quote(a) for a in data["command"]), "",
                   f"Baseline lmp: `{data['lmp']['baseline']}`; this: `{data['lmp']['this']}`. {data['steps']} steps "
-                  f"per run, {data['repeat']} repeats, time step {data['time_step_s']:.4g} s.", "",
+                  f"per run, {data['repeat']} repeats, time step {data['time_step_s']:.4g} s.", ""]
+        if data.get("case_variables"):
+            lines += ["Case variables of each: " + "; ".join(
+                f"{label} {' '.join(f'{k}={v}' for k, v in values.items()) or '(the case defaults)'}"
+                for label, values in data["case_variables"].items()) + ".", ""]
+        state = [r for r in data["runs"] if r.get("neighbour_builds", -1) >= 0]
+        if state:
+            lines += [f"State of the runs: {spread([r['neighbours_per_particle'] for r in state])} pair neighbours "
+                      f"per particle, {spread([1e3 * r['neighbour_builds'] / r['steps'] for r in state])} "
+                      "neighbour-list builds per 1 000 steps.", ""]
+        lines += [
                   "| ranks | baseline ms/step | this ms/step | baseline / this (core-s per step, per repeat) | "
                   "this: M particle-steps per core-s | this: core-h per simulated s | this: fix ms/step |",
                   "|---|---|---|---|---|---|---|"]
