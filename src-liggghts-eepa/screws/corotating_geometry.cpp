@@ -146,11 +146,11 @@ void FixWallGranCorotating::follow_lists_to_new_indices(const std::vector<rot::M
 }
 
 namespace {
-// distance from p to the triangle's plane: a lower bound on its distance to the triangle
-double plane_distance(const tmesh::Triangle &t, const double *p)
+// height of p above the triangle's plane (along its normal)
+double signed_plane_distance(const tmesh::Triangle &t, const double *p)
 {
-  return std::fabs((p[0] - t.node[0][0]) * t.normal[0] + (p[1] - t.node[0][1]) * t.normal[1] +
-                   (p[2] - t.node[0][2]) * t.normal[2]);
+  return (p[0] - t.node[0][0]) * t.normal[0] + (p[1] - t.node[0][1]) * t.normal[1] +
+         (p[2] - t.node[0][2]) * t.normal[2];
 }
 }  // namespace
 
@@ -213,8 +213,11 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
       const size_t before = list.size();
       screw.tree.for_each_near(centre, reach, [&](int tri) {
         const tmesh::Triangle &t = screw.triangles[tri];
-        if (plane_distance(t, centre) > reach) return;
         const double *sphere = screw.tree.bounding_sphere(tri);
+        const double gap = std::sqrt((centre[0] - sphere[0]) * (centre[0] - sphere[0]) +
+                                     (centre[1] - sphere[1]) * (centre[1] - sphere[1]) +
+                                     (centre[2] - sphere[2]) * (centre[2] - sphere[2]));
+        if (tmesh::distance_lower_bound(gap, signed_plane_distance(t, centre), sphere[3], kFilterSlack) > reach) return;
         const double offset = t.normal[0] * t.node[0][0] + t.normal[1] * t.node[0][1] + t.normal[2] * t.node[0][2];
         list.push_back({static_cast<int>(s),
                         tri,

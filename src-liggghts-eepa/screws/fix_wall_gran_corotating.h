@@ -104,6 +104,10 @@ private:
   // reused until the particle has moved beyond its margin in the lab or in a screw's frame.
   // Its bounding sphere and plane are copied here (single precision, read with kFilterSlack): the
   // per-step reach tests then read the list in order instead of two arrays of the whole mesh.
+  // Slack of the reach tests on a candidate, m: far above the rounding of its single-precision copies
+  // (float coordinates of a machine of 0.1 m: 1e-8 m), far below a particle's radius, so that no
+  // triangle within reach is ever skipped; survivors are tested in double precision.
+  static constexpr double kFilterSlack = 1e-7;
   struct Candidate {
     int screw;
     int triangle;
