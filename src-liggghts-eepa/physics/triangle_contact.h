@@ -102,20 +102,23 @@ inline Contact beyond_corner(const Triangle &t, int k, const double *centre)
 }
 }  // namespace detail
 
-// A lower bound on the distance from a point to every point of a triangle, from what a candidate
-// list keeps of it: the distance `gap` from the point to the triangle's node average (a point of its
-// plane), the point's signed height above the plane and the triangle's bound radius. The triangle lies
-// in its plane within the circle of that radius about the node average, so the distance within the
-// plane is at least sqrt(gap² − height²) − bound. `slack` bounds the error of each of the three inputs
-// (single-precision copies): the result is a lower bound for the exact values as well.
-inline double distance_lower_bound(double gap, double height, double bound, double slack)
+// Whether every point of a triangle is farther than `reach` from a point, decided from what a
+// candidate list keeps of the triangle: the squared distance `gap2` from the point to its node average
+// (a point of its plane; gap ≤ gap_max known), the point's signed height above the plane and the
+// triangle's bound radius. The triangle lies in its plane within the circle of that radius about the
+// node average, so the distance within the plane is at least sqrt(gap² − height²) − bound. `slack`
+// bounds the error of each input (single-precision copies): "out of reach" holds for the exact values
+// too. One square root, independent of the inputs' other arithmetic.
+inline bool out_of_reach(double gap2, double gap_max, double height, double bound, double reach, double slack)
 {
   const double vertical = std::fabs(height);
-  const double gap_low = gap - slack, vertical_high = vertical + slack;
-  const double across = gap_low > vertical_high ? gap_low * gap_low - vertical_high * vertical_high : 0.0;
-  const double in_plane = std::sqrt(across) - (bound + slack);
+  if (vertical - slack > reach) return true;
   const double vertical_low = vertical > slack ? vertical - slack : 0.0;
-  return in_plane > 0.0 ? std::sqrt(vertical_low * vertical_low + in_plane * in_plane) : vertical_low;
+  const double vertical_high = vertical + slack;
+  // (gap − slack)² − (|height| + slack)², with (gap − slack)² ≥ gap2 − 2 slack gap_max
+  const double across = gap2 - 2.0 * slack * gap_max - vertical_high * vertical_high;
+  const double allowed = std::sqrt(reach * reach - vertical_low * vertical_low) + bound + slack;
+  return across > allowed * allowed;
 }
 
 // Closest active feature of the triangle to the sphere centre `centre` (body frame), with the

@@ -92,7 +92,7 @@ void FixWallGranCorotating::corotating_contacts()
       const double limit = reach + sphere[3] + kFilterSlack;
       if (gap2 > limit * limit) continue;
       const double height = centre[0] * plane[0] + centre[1] * plane[1] + centre[2] * plane[2] - plane[3];
-      if (tmesh::distance_lower_bound(std::sqrt(gap2), height, sphere[3], kFilterSlack) > reach) continue;
+      if (tmesh::out_of_reach(gap2, limit, height, sphere[3], reach, kFilterSlack)) continue;
       const tmesh::Contact c = tmesh::closest_feature(s.triangles[cand.triangle], centre, s.precision);
       if (c.feature == tmesh::Feature::none) continue;
       const double deltan = c.distance - radius[i];

@@ -214,10 +214,12 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
       screw.tree.for_each_near(centre, reach, [&](int tri) {
         const tmesh::Triangle &t = screw.triangles[tri];
         const double *sphere = screw.tree.bounding_sphere(tri);
-        const double gap = std::sqrt((centre[0] - sphere[0]) * (centre[0] - sphere[0]) +
-                                     (centre[1] - sphere[1]) * (centre[1] - sphere[1]) +
-                                     (centre[2] - sphere[2]) * (centre[2] - sphere[2]));
-        if (tmesh::distance_lower_bound(gap, signed_plane_distance(t, centre), sphere[3], kFilterSlack) > reach) return;
+        const double gap2 = (centre[0] - sphere[0]) * (centre[0] - sphere[0]) +
+                            (centre[1] - sphere[1]) * (centre[1] - sphere[1]) +
+                            (centre[2] - sphere[2]) * (centre[2] - sphere[2]);
+        if (tmesh::out_of_reach(gap2, reach + sphere[3], signed_plane_distance(t, centre), sphere[3], reach,
+                                kFilterSlack))
+          return;
         const double offset = t.normal[0] * t.node[0][0] + t.normal[1] * t.node[0][1] + t.normal[2] * t.node[0][2];
         list.push_back({static_cast<int>(s),
                         tri,

@@ -210,44 +210,51 @@ TEST(TriangleContact, InactiveEdgesAndCornersAreLeftToTheirOwner)
   EXPECT_NEAR(face.delta[2], -0.4e-3, 1e-18);
 }
 
-// The reach test of the candidate lists: a lower bound on the distance to the triangle (checked
-// against the exact closest distance of closest_feature, itself checked against sampling above), and
-// one that leaves out most of the triangles around a sphere resting on a flat mesh finer than it.
-TEST(TriangleContact, DistanceLowerBoundNeverExceedsTheDistanceAndSkipsTheTouchedFacesNeighbours)
+// The reach test of the candidate lists: "out of reach" only where the exact closest distance
+// (closest_feature, itself checked against sampling above) is beyond reach, also with inputs off by
+// their slack; and it leaves out most of the triangles around a sphere resting on a flat mesh finer
+// than it.
+TEST(TriangleContact, OutOfReachOnlyBeyondReachAndSkipsTheTouchedFacesNeighbours)
 {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1e-3, 1e-3);
   auto distance_to = [](const double *a, const double *b) {
     return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
   };
-  int tight = 0;
-  for (int k = 0; k < 2000; ++k) {
+  int rejected_within_sphere = 0;
+  for (int k = 0; k < 4000; ++k) {
     const double a[3] = {u(rng), u(rng), u(rng)}, b[3] = {u(rng), u(rng), u(rng)}, c[3] = {u(rng), u(rng), u(rng)};
     const tmesh::Triangle t = make_triangle(a, b, c);
     double centroid[3];
     for (int d = 0; d < 3; ++d) centroid[d] = (a[d] + b[d] + c[d]) / 3.0;
     const double p[3] = {2 * u(rng), 2 * u(rng), 2 * u(rng)};
     const double exact = tmesh::closest_feature(t, p, 1e-8).distance;
-    double rel[3];
-    for (int d = 0; d < 3; ++d) rel[d] = p[d] - centroid[d];
-    const double height = rel[0] * t.normal[0] + rel[1] * t.normal[1] + rel[2] * t.normal[2];
-    const double bound = tmesh::distance_lower_bound(distance_to(p, centroid), height, t.bound_radius, 0.0);
-    ASSERT_LE(bound, exact * (1 + 1e-12) + 1e-18) << "triangle " << k;
-    ASSERT_GE(bound, std::fabs(height) - 1e-18);  // never weaker than the plane alone
-    tight += bound > 0.5 * exact;
-    // with slack s on its inputs it stays a lower bound when they are off by up to s
+    const double gap = distance_to(p, centroid);
+    const double height =
+        (p[0] - centroid[0]) * t.normal[0] + (p[1] - centroid[1]) * t.normal[1] + (p[2] - centroid[2]) * t.normal[2];
+    const double reach = exact * std::uniform_real_distribution<double>(0.5, 1.5)(rng);
+    const double gap_max = reach + t.bound_radius;
+    if (gap > gap_max) continue;  // the bounding-sphere test comes first
+    const bool out = tmesh::out_of_reach(gap * gap, gap_max, height, t.bound_radius, reach, 0.0);
+    if (out) {
+      ASSERT_GT(exact, reach) << "triangle " << k;
+      ++rejected_within_sphere;
+    }
+    // inputs off by up to the slack s (as the single-precision copies are): still never a wrong "out"
     const double s = 1e-7;
-    const double shifted = tmesh::distance_lower_bound(distance_to(p, centroid) + s, height - s, t.bound_radius - s, s);
-    ASSERT_LE(shifted, exact * (1 + 1e-12) + 1e-18) << "triangle " << k;
+    const double off_gap = gap + s, off_height = height > 0 ? height - s : height + s, off_bound = t.bound_radius - s;
+    if (tmesh::out_of_reach(off_gap * off_gap, gap_max + s, off_height, off_bound, reach, s)) {
+      ASSERT_GT(exact, reach) << "triangle " << k << " (inputs off by the slack)";
+    }
   }
-  EXPECT_GT(tight, 1000);  // a useful bound, not 0
+  EXPECT_GT(rejected_within_sphere, 200);  // it decides, beyond the bounding sphere
 
-  // a sphere of radius 0.2 mm resting 10 um deep on a flat mesh of 0.1 mm squares: the bounding
-  // spheres within reach hold about 20 triangles, the new bound keeps those that can touch
+  // a sphere of radius 0.2 mm resting 10 um deep on a flat mesh of 0.1 mm squares: of the triangles
+  // whose bounding sphere is within reach, the test keeps those that can touch
   const double h = 0.1e-3, radius = 0.2e-3;
   const std::vector<tmesh::Triangle> mesh = height_field(20, 20, h, [](double, double) { return 0.0; });
   const double centre[3] = {1.03e-3, 0.97e-3, radius - 10e-6};
-  int by_sphere = 0, by_bound = 0, touching = 0;
+  int by_sphere = 0, kept = 0, touching = 0;
   for (const tmesh::Triangle &t : mesh) {
     double centroid[3] = {0, 0, 0};
     for (const auto &n : t.node)
@@ -256,14 +263,15 @@ TEST(TriangleContact, DistanceLowerBoundNeverExceedsTheDistanceAndSkipsTheTouche
     const double height = (centre[0] - centroid[0]) * t.normal[0] + (centre[1] - centroid[1]) * t.normal[1] +
                           (centre[2] - centroid[2]) * t.normal[2];
     const bool near_sphere = gap <= radius + t.bound_radius;
-    const bool near_bound = near_sphere && tmesh::distance_lower_bound(gap, height, t.bound_radius, 1e-7) <= radius;
+    const bool keep =
+        near_sphere && !tmesh::out_of_reach(gap * gap, radius + t.bound_radius, height, t.bound_radius, radius, 1e-7);
     const bool touches = tmesh::closest_feature(t, centre, 1e-8).distance <= radius;
-    by_sphere += near_sphere, by_bound += near_bound, touching += touches;
-    EXPECT_TRUE(!touches || near_bound);  // no touching triangle is left out
+    by_sphere += near_sphere, kept += keep, touching += touches;
+    EXPECT_TRUE(!touches || keep);  // no touching triangle is left out
   }
   EXPECT_GE(by_sphere, 15);
-  EXPECT_LT(by_bound, by_sphere / 2);
-  EXPECT_GE(by_bound, touching);
+  EXPECT_LT(kept, by_sphere / 2);
+  EXPECT_GE(kept, touching);
   EXPECT_GT(touching, 0);
 }
 
