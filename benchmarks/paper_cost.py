@@ -18,6 +18,8 @@ the corotating fix's own contact time, particle-steps per second per core and co
 simulated second; then the ratio baseline / this build. With --callgrind-steps N it also counts
 the instructions of N steps' run loop (valgrind --tool=callgrind, serial), which do not depend on
 the machine's load. Records the machine (CPU model, cores, load), the commit and the command.
+A baseline built before the restart files carried the simulation time (b9673fc) reads a copy
+without it: --restart-without-time (both variants read that copy).
 Not a test: wall-clock numbers depend on the machine and its load.
 """
 from __future__ import annotations
@@ -29,6 +31,7 @@ import platform
 import re
 import shlex
 import statistics
+import struct
 import subprocess
 import sys
 import tempfile
@@ -179,6 +182,28 @@ def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: i
     return restart
 
 
+def restart_without_time(restart: Path, work: Path) -> Path:
+    """A copy of the restart file without the simulation-time entry of its header (the flag that
+    src-liggghts-eepa/patches/write-restart-cpp.patch adds after YZ, with its double), which an lmp
+    built before that patch (e.g. b9673fc) rejects as an invalid flag. Both variants then read the
+    same file; the fixes keep their own clocks in their restart data, so the physics is the same."""
+    source = (ROOT / "build" / "liggghts" / "src" / "write_restart.cpp").read_text()
+    names = re.search(r"enum\{VERSION,(.*?)\};", source, re.S)
+    if names is None or "ATIME" not in names.group(1):
+        raise SystemExit("--restart-without-time: build/liggghts/src/write_restart.cpp has no ATIME header entry")
+    flags = ["VERSION"] + [n.strip() for n in re.sub(r"//[^\n]*", "", names.group(1)).split(",") if n.strip()]
+    key = struct.pack("<i", flags.index("ATIME"))
+    data = restart.read_bytes()
+    end = struct.pack("<i", -1)
+    for match in re.finditer(re.escape(key), data[:1 << 16]):   # the header is the file's first few kB
+        at = match.start()
+        if data[at + 12:at + 16] == end:          # flag, the time (a double), then the header's end mark
+            stripped = work / (restart.name + ".without-time")
+            stripped.write_bytes(data[:at] + data[at + 12:])
+            return stripped
+    raise SystemExit(f"--restart-without-time: no time entry found in the header of {restart}")
+
+
 def guards(case: dict[str, object]) -> dict[str, object]:
     return RELAXED_GUARDS if case["scale"] == "paper" else {}
 
@@ -269,6 +294,9 @@ def main(argv: list[str] | None = None) -> int:
                         help=f"steps from the fill before the restart (default {DEFAULT_STARTUP_STEPS})")
     parser.add_argument("--restart", type=Path, default=None,
                         help="a restart in motion to use instead of making one (written without the measurement fixes)")
+    parser.add_argument("--restart-without-time", action="store_true",
+                        help="both variants read a copy of the restart without its simulation-time header entry "
+                             "(for a baseline built before it, e.g. b9673fc)")
     parser.add_argument("--thermo-every", type=int, default=200)
     parser.add_argument("--callgrind-steps", type=int, default=0, help="also count instructions of N steps (serial)")
     parser.add_argument("--profile-steps", type=int, default=0,
@@ -294,6 +322,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"machine: {machine_at_start}", flush=True)
     case = prepare(work, args.lmp, args.scale)
     restart = args.restart or make_restart(work, args.lmp, case, startup_steps, args.thermo_every)
+    if args.restart_without_time:
+        restart = restart_without_time(restart, work)
     print(f"restart: {restart} ({restart.stat().st_size / 1e6:.0f} MB), time step {float(case['dt']):.4g} s", flush=True)
     variants = {"baseline": args.baseline_lmp, "this": args.lmp}
     extra = {"baseline": assignments(parser, args.baseline_vars), "this": assignments(parser, args.this_vars)}
