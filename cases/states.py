@@ -2,6 +2,7 @@
 other runs start from it instead of running the start-up again.
 
     python -m tsg_cases.states keep RUN_DIR STATE_DIR     # after tsg-run-case periodic ... -v write_state 1
+    python -m tsg_cases.states keep RUN_DIR STATE_DIR --restart RUN_DIR/restart.STEP   # any restart of a run
     tsg-run-case periodic --scale demo --from-state STATE_DIR --out OUT [-v t_sample T]
 
 A state directory holds state.restart.xz (the LIGGGHTS restart file the case wrote when its
@@ -103,11 +104,28 @@ def _restart_row(run_dir: Path, t_startup: float) -> tuple[int, float]:
     return at_end[0]
 
 
-def keep(run_dir: Path, state_dir: Path) -> KeptState:
-    """Compress the state a run wrote (-v write_state 1) into `state_dir`, with its description."""
-    restart = run_dir / STATE_RESTART
-    if not restart.is_file():
-        raise StateError(f"{run_dir}: no {STATE_RESTART} (run the case with -v write_state 1)")
+def _row_at_step(run_dir: Path, step: int) -> float:
+    """The time of the thermo row at `step` in the run's logs (a kept run's segments: log.upto-*.lammps)."""
+    for log in sorted(run_dir.glob("log*.lammps")):
+        for block in parse_thermo(log.read_text(errors="replace")):
+            for row_step, time in zip(block["Step"], block["Time"]):
+                if int(row_step) == step:
+                    return float(time)
+    raise StateError(f"{run_dir}: no thermo row at step {step} in its logs (log*.lammps): a restart file's step "
+                     f"must be a multiple of thermo_every")
+
+
+def keep(run_dir: Path, state_dir: Path, restart: Path | None = None) -> KeptState:
+    """Compress the state a run wrote (-v write_state 1) into `state_dir`, with its description; or, with
+    `restart`, one of the run's restart files (restart.STEP, e.g. a kept run's, in its sampling window):
+    the state's start-up then ends at that file's time."""
+    from_file = restart is not None
+    if restart is None:
+        restart = run_dir / STATE_RESTART
+        if not restart.is_file():
+            raise StateError(f"{run_dir}: no {STATE_RESTART} (run the case with -v write_state 1)")
+    elif not restart.is_file() or not restart.name.startswith("restart.") or not restart.suffix[1:].isdigit():
+        raise StateError(f"--restart {restart}: not a restart file restart.STEP of the run")
     params = json.loads((run_dir / "params.json").read_text())
     if params["case"] != "periodic":
         raise StateError(f"{run_dir}: a {params['case']} run; kept states are periodic runs")
@@ -117,12 +135,22 @@ def keep(run_dir: Path, state_dir: Path) -> KeptState:
     shutil.copyfile(run_dir / FILL_VARS, state_dir / FILL_VARS)
     variables = params["variables"]
     model = "".join(f" -v {name} {variables[name]}" for name in MODEL_VARIABLES if name in variables)
-    command = (f"tsg-run-case periodic --scale {params['scale']} --seed {params['seed']} --np {params['np']} "
-               f"--out RUN -v t_startup {variables['t_startup']} -v t_sample {variables['t_sample']} -v write_state 1{model}; "
-               f"python -m tsg_cases.states keep RUN {state_dir}")
-    step, time = _restart_row(run_dir, float(variables["t_startup"]))
+    if from_file:
+        step = int(restart.suffix[1:])
+        time = t_startup = _row_at_step(run_dir, step)
+        given = "".join(f" -v {name} {value}" for name, value in variables.items()
+                        if name not in ("case_dir", "out_dir", "mesh_dir", "fill_file", "zones_file"))
+        command = (f"tsg-run-case periodic --scale {params['scale']} --seed {params['seed']} --np {params['np']} "
+                   f"--out RUN{given} (continued past step {step}); "
+                   f"python -m tsg_cases.states keep RUN {state_dir} --restart RUN/{restart.name}")
+    else:
+        command = (f"tsg-run-case periodic --scale {params['scale']} --seed {params['seed']} --np {params['np']} "
+                   f"--out RUN -v t_startup {variables['t_startup']} -v t_sample {variables['t_sample']} -v write_state 1{model}; "
+                   f"python -m tsg_cases.states keep RUN {state_dir}")
+        t_startup = float(variables["t_startup"])
+        step, time = _restart_row(run_dir, t_startup)
     description = {"case": params["case"], "scale": params["scale"], "seed": params["seed"],
-                   "t_startup": float(variables["t_startup"]), "step": step, "time": time,
+                   "t_startup": t_startup, "step": step, "time": time,
                    "model": {name: str(variables.get(name, default)) for name, default in MODEL_VARIABLES.items()},
                    "command": command, "commit": params.get("git_commit")}
     (state_dir / DESCRIPTION).write_text(json.dumps(description, indent=1) + "\n")
@@ -136,9 +164,11 @@ def main(argv: list[str] | None = None) -> int:
     keeping = commands.add_parser("keep", help="compress a run's state.restart into a state directory")
     keeping.add_argument("run_dir", type=Path)
     keeping.add_argument("state_dir", type=Path)
+    keeping.add_argument("--restart", type=Path, help="one of the run's restart files (restart.STEP) instead of the "
+                         "state.restart its start-up wrote: the state then ends at that file's time")
     args = parser.parse_args(argv)
     try:
-        state = keep(args.run_dir, args.state_dir)
+        state = keep(args.run_dir, args.state_dir, args.restart)
     except StateError as problem:
         print(f"python -m tsg_cases.states: {problem}", file=sys.stderr)
         return 1
