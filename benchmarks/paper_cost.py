@@ -8,7 +8,9 @@ side by side in one invocation.
    the 1 um meshes, the zones and the static fill (about 54 000 particles of 400 um, 2.3 g).
 2. Motion restart (once per --work directory, this build): the case runs --startup-steps from the
    fill (screws turning, particles falling onto them and dragged along) and writes a restart file
-   (tens of MB: kept out of git, made here).
+   (tens of MB: kept out of git, made here). The demo scale instead starts, unless --startup-steps
+   or --restart is given, from its kept steady state (cases/states/periodic-demo/seed-1, t = 1.5 s
+   after the fill): a cost measured in motion, not in the first milliseconds after the fill.
 3. Each lmp (baseline, this build; alternated, --repeat times, for each --np) reads the restart and
    runs --steps steps of the case as it is: cases/include models, corotating screws and fixed
    barrel, guards (fix check/contact), measurement fixes (element statistics, mass flow,
@@ -39,6 +41,9 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from tsg_analysis.liggghts_log import parse_thermo
+from tsg_cases import states
+
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
 # The variables of each scale that the benchmark input needs (cases/run_case.py SCALES: the values a
@@ -49,6 +54,7 @@ SCALE_VARIABLES: dict[str, dict[str, object]] = {
              "guard_max_pair_overlap": 1.5, "guard_max_speed": 500},
 }
 DEFAULT_STARTUP_STEPS = {"paper": 6000, "demo": 4000}
+DEMO_STATE = CASES / "states" / "periodic-demo" / "seed-1"   # the demo's default start: steady, t = 1.5 s
 # The guards stay on (their per-step cost is part of the case) but out of reach: the static paper
 # fill trips max_speed within a few steps (a particle touching a screw at phase 0; docs/stability.md).
 # The demo scale keeps its own guards (runaway-only, cases/run_case.py).
@@ -115,6 +121,7 @@ class Result:
     dt: float
     neighbours_per_particle: float = float("nan")   # pair neighbours per particle at the end of the run
     neighbour_builds: int = -1                        # neighbour-list builds during the run
+    time_s: float = float("nan")                      # simulated time at the timed run's start, s
 
     @property
     def core_s_per_step(self) -> float:
@@ -182,6 +189,24 @@ def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: i
     return restart
 
 
+def demo_state_restart(work: Path, case: dict[str, object]) -> Path:
+    """The demo's kept steady state (DEMO_STATE), unpacked into `work`; its fill's smallest diameter
+    goes into `case` (the state's fill, not the prepared one)."""
+    state = states.read(DEMO_STATE)
+    unpacked = work / f"demo-state-seed-{state.seed}"
+    unpacked.mkdir(parents=True, exist_ok=True)
+    restart = unpacked / states.STATE_RESTART
+    if not restart.exists():
+        states.unpack(state, unpacked)
+    d_min = re.search(r"variable d_min equal (\S+)", (unpacked / states.FILL_VARS).read_text())
+    if d_min is None:
+        raise SystemExit(f"{DEMO_STATE / states.FILL_VARS}: no d_min")
+    case["d_min_value"] = d_min.group(1)
+    print(f"[restart] the demo's kept steady state {DEMO_STATE} (fill seed {state.seed}, t = {state.time:g} s, "
+          f"step {state.step})", flush=True)
+    return restart
+
+
 def restart_without_time(restart: Path, work: Path) -> Path:
     """A copy of the restart file without the simulation-time entry of its header (the flag that
     src-liggghts-eepa/patches/write-restart-cpp.patch adds after YZ, with its double), which an lmp
@@ -217,9 +242,11 @@ def parse(label: str, np_ranks: int, log: str, dt: float) -> Result:
     fix = re.findall(r"contact handling (\S+) ms/step", log)
     neighbours = re.findall(r"^Ave neighs/atom = (\S+)", log, re.M)
     builds = re.findall(r"^Neighbor list builds = (\d+)", log, re.M)
+    timed = [block for block in parse_thermo(log) if "Time" in block and len(block["Time"])][-1:]
     return Result(label, np_ranks, int(loop[1]), int(loop[2]), float(loop[0]), shares,
                   float(fix[-1]) if fix else float("nan"), dt,
-                  float(neighbours[-1]) if neighbours else float("nan"), int(builds[-1]) if builds else -1)
+                  float(neighbours[-1]) if neighbours else float("nan"), int(builds[-1]) if builds else -1,
+                  float(timed[0]["Time"][0]) if timed else float("nan"))
 
 
 def bench(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, object], steps: int, thermo_every: int,
@@ -291,7 +318,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--scale", choices=sorted(SCALE_VARIABLES), default="paper",
                         help="the periodic case at the paper's 400 um or the demo's 1 mm (cases/run_case.py --scale)")
     parser.add_argument("--startup-steps", type=int, default=None,
-                        help=f"steps from the fill before the restart (default {DEFAULT_STARTUP_STEPS})")
+                        help=f"steps from the fill before the restart (default {DEFAULT_STARTUP_STEPS}; the demo scale "
+                             f"starts from its kept steady state unless this is given)")
     parser.add_argument("--restart", type=Path, default=None,
                         help="a restart in motion to use instead of making one (written without the measurement fixes)")
     parser.add_argument("--restart-without-time", action="store_true",
@@ -321,7 +349,10 @@ def main(argv: list[str] | None = None) -> int:
     machine_at_start = machine()
     print(f"machine: {machine_at_start}", flush=True)
     case = prepare(work, args.lmp, args.scale)
-    restart = args.restart or make_restart(work, args.lmp, case, startup_steps, args.thermo_every)
+    if args.restart is None and args.scale == "demo" and args.startup_steps is None:
+        restart = demo_state_restart(work, case)
+    else:
+        restart = args.restart or make_restart(work, args.lmp, case, startup_steps, args.thermo_every)
     if args.restart_without_time:
         restart = restart_without_time(restart, work)
     print(f"restart: {restart} ({restart.stat().st_size / 1e6:.0f} MB), time step {float(case['dt']):.4g} s", flush=True)
@@ -392,6 +423,7 @@ def main(argv: list[str] | None = None) -> int:
                       "particle_steps_per_core_s": r.particle_steps_per_core_s,
                       "core_hours_per_sim_s": r.core_hours_per_sim_s, "fix_ms_per_step": r.fix_ms,
                       "neighbours_per_particle": r.neighbours_per_particle, "neighbour_builds": r.neighbour_builds,
+                      "time_s": r.time_s,
                       "breakdown_percent": r.breakdown} for rs in results.values() for r in rs],
             "summary": summary,
             "collected": "runs read from the logs an earlier invocation left in --work (its command and machine are in "

@@ -94,13 +94,18 @@ def thermo_largest(run: Run, prefix: str) -> float | None:
 def contact_health(run: Run) -> str | None:
     """What the guards of fix check/contact saw over the run, from its thermo columns
     (cases/include/thermo.in): squeeze releases counted (`fast`, cumulative), the largest wall
-    overlap/R (`pg_*`) and particle speed; None when the log has none of them."""
-    fast, wall, speed = (thermo_largest(run, prefix) for prefix in ("fast", "pg_", "speed"))
+    overlap/R (`pg_*`) and particle speed, and the wall crossings the squeeze ledger counted
+    (`crossed`, cumulative: a particle centre behind a screw or barrel surface); None when the log
+    has none of them."""
+    fast, wall, speed, crossed = (thermo_largest(run, prefix) for prefix in ("fast", "pg_", "speed", "crossed"))
     if fast is None and wall is None:
         return None
     parts = [f"{int(fast)} squeeze releases (particles faster than guard_fast_speed, counted)"] if fast is not None else []
     parts += [f"largest wall overlap/R {wall:.3g}"] if wall is not None else []
     parts += [f"largest speed {speed:.3g} m/s"] if speed is not None else []
+    if crossed is not None:
+        parts += [f"{int(crossed)} wall crossings" + (" (particle centres behind a screw or barrel surface: "
+                                                     "log.lammps names each)" if crossed > 0 else "")]
     return "contacts over the run: " + ", ".join(parts)
 
 

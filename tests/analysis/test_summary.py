@@ -153,6 +153,16 @@ def test_contact_health_reads_the_guards_columns(tmp_path):
     (tmp_path / "log.lammps").write_text(log)
     assert contact_health(Run(tmp_path)) == ("contacts over the run: 5 squeeze releases (particles faster than "
                                         "guard_fast_speed, counted), largest wall overlap/R 0.3, largest speed 9.5 m/s")
+    # with the squeeze ledger's crossing count (cumulative): named when a centre went behind a wall
+    crossing = "Step Time Atoms speed pg_scr1 fast crossed\n"
+    (tmp_path / "log.lammps").write_text("LIGGGHTS\n" + crossing + "0 0 10 1.0 0.1 0 0\n500 0.001 10 2.0 0.9 4 2\n"
+                                         "Loop time of 1\n")
+    assert contact_health(Run(tmp_path)) == ("contacts over the run: 4 squeeze releases (particles faster than "
+                                        "guard_fast_speed, counted), largest wall overlap/R 0.9, largest speed 2 m/s, "
+                                        "2 wall crossings (particle centres behind a screw or barrel surface: "
+                                        "log.lammps names each)")
+    (tmp_path / "log.lammps").write_text("LIGGGHTS\n" + crossing + "0 0 10 1.0 0.1 0 0\nLoop time of 1\n")
+    assert contact_health(Run(tmp_path)).endswith("largest speed 1 m/s, 0 wall crossings")
     (tmp_path / "log.lammps").write_text("LIGGGHTS\nStep Time Atoms\n0 0 10\nLoop time of 1\n")
     assert contact_health(Run(tmp_path)) is None
 

@@ -1,0 +1,57 @@
+"""The paper-scale time-step ladder from one developed state (README.md beside this file): per point,
+what its thermo and squeeze records say about stability and cost over the same 20 ms.
+
+    .venv/bin/python studies/paper-400um/dt-ladder/ladder_table.py runs/paper-400um-dt-ladder > table.md
+"""
+from __future__ import annotations
+
+import argparse
+import re
+from pathlib import Path
+
+import numpy as np
+
+from tsg_analysis.liggghts_log import parse_thermo
+from tsg_analysis.run import Run
+
+POINTS = ("dt_fraction-0.05", "reference", "dt_fraction-0.2", "dt_fraction-0.3")
+FRACTION = {"reference": "0.1 (reference)", "dt_fraction-0.05": "0.05", "dt_fraction-0.2": "0.2", "dt_fraction-0.3": "0.3"}
+
+
+def row(point: Path) -> str:
+    run = Run(point)
+    log = run.log
+    blocks = [b for b in parse_thermo(log) if "Time" in b and len(b["Time"])]
+    column = {name: np.concatenate([b[name] for b in blocks]) for name in ("Time", "speed", "fast", "squeezes", "crossed",
+                                                                          "e_excess")}
+    start, end = float(column["Time"][0]), float(column["Time"][-1])
+    loops = re.findall(r"^Loop time of (\S+) on \d+ procs for (\d+) steps", log, re.M)
+    seconds, steps = sum(float(t) for t, _ in loops), sum(int(n) for _, n in loops)
+    builds = sum(int(n) for n in re.findall(r"^Neighbor list builds = (\d+)", log, re.M))
+    lost = re.search(r"ERROR: Lost atoms: (\d+) at the previous check.*?, (\d+) now", log)
+    ledger = run.squeeze_ledger(start, end)
+    release = ledger.release_speed_quantiles
+    outcome = (f"stopped at t = {end:.4f} s: lost atoms ({lost.group(1)} → {lost.group(2)}, out of the domain)" if lost
+               else "ran to the end, nothing lost" if "TSG-DONE" in log else "unfinished (the part run so far)")
+    return (f"| {FRACTION[point.name]} | {outcome} | {1e3 * (end - start):.1f} | {steps} | {1e3 * seconds / steps:.1f} | "
+            f"{1e3 * builds / steps:.0f} | {seconds / (end - start) / 3600:.1f} | "
+            f"{int(column['fast'][-1] - column['fast'][0])} | {ledger.events} | {release[0.99]:.3g} / {release[1.0]:.3g} | "
+            f"{ledger.peak_wall_quantiles[1.0]:.3g} | {int(column['crossed'][-1] - column['crossed'][0])} | "
+            f"{float(column['speed'].max()):.3g} | {float(column['e_excess'].max()):.4f} |")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("study", type=Path, help="the tsg-accuracy study directory")
+    study = parser.parse_args().study
+    print("| dt / Rayleigh time | outcome | simulated ms | steps | ms/step | neighbour builds per 1 000 steps | "
+          "core-h per simulated s | fast events | squeezes | release speed 99 % / max, m/s | peak wall δ/R max | "
+          "wall crossings | max speed, m/s | max energy excess |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for name in POINTS:
+        if (study / name / "log.lammps").is_file():
+            print(row(study / name))
+
+
+if __name__ == "__main__":
+    main()
