@@ -166,7 +166,9 @@ def render() -> str:
                 for label, values in data["case_variables"].items()) + ".", ""]
         state = [r for r in data["runs"] if r.get("neighbour_builds", -1) >= 0]
         if state:
-            times = sorted({round(r["time_s"], 6) for r in state if r.get("time_s", float("nan")) == r.get("time_s")})
+            # this build's runs: a baseline that predates the time entry in restart files starts its clock at 0
+            times = sorted({round(r["time_s"], 6) for r in state
+                            if r["label"] == "this" and r.get("time_s", float("nan")) == r.get("time_s")})
             at = f"at t = {', '.join(f'{t:g}' for t in times)} s of simulated time, " if times else ""
             lines += [f"State of the runs: {at}{spread([r['neighbours_per_particle'] for r in state])} pair neighbours "
                       f"per particle, {spread([1e3 * r['neighbour_builds'] / r['steps'] for r in state])} "
