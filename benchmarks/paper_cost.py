@@ -167,7 +167,7 @@ def prepare(work: Path, lmp: str, scale: str = "paper") -> dict[str, object]:
         mesh_dir = ROOT / "build" / "meshes" / mesh_dir.name
     return {"mesh_dir": mesh_dir, "zones_file": prepared / "zones.txt",
             "fill_file": prepared / "fill.in", "scale": scale, **SCALE_VARIABLES[scale],
-            "d_min_value": re.search(r"variable d_min equal (\S+)", fill).group(1),
+            "d_min_value": fill_d_min(fill, prepared / "fill.in"),
             "dt": float(re.search(r"time step (\S+) s", log).group(1))}
 
 
@@ -189,6 +189,14 @@ def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: i
     return restart
 
 
+def fill_d_min(text: str, where: Path) -> str:
+    """The smallest diameter a fill file (fill.in, fill.vars) declares, as written."""
+    d_min = re.search(r"variable d_min equal (\S+)", text)
+    if d_min is None:
+        raise SystemExit(f"{where}: no 'variable d_min equal'")
+    return d_min.group(1)
+
+
 def demo_state_restart(work: Path, case: dict[str, object]) -> Path:
     """The demo's kept steady state (DEMO_STATE), unpacked into `work`; its fill's smallest diameter
     goes into `case` (the state's fill, not the prepared one)."""
@@ -198,10 +206,7 @@ def demo_state_restart(work: Path, case: dict[str, object]) -> Path:
     restart = unpacked / states.STATE_RESTART
     if not restart.exists():
         states.unpack(state, unpacked)
-    d_min = re.search(r"variable d_min equal (\S+)", (unpacked / states.FILL_VARS).read_text())
-    if d_min is None:
-        raise SystemExit(f"{DEMO_STATE / states.FILL_VARS}: no d_min")
-    case["d_min_value"] = d_min.group(1)
+    case["d_min_value"] = fill_d_min((unpacked / states.FILL_VARS).read_text(), DEMO_STATE / states.FILL_VARS)
     print(f"[restart] the demo's kept steady state {DEMO_STATE} (fill seed {state.seed}, t = {state.time:g} s, "
           f"step {state.step})", flush=True)
     return restart
