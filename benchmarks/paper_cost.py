@@ -334,8 +334,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--callgrind-steps", type=int, default=0, help="also count instructions of N steps (serial)")
     parser.add_argument("--profile-steps", type=int, default=0,
                         help="also profile N steps with perf record (each variant, each --np)")
-    parser.add_argument("--baseline-vars", nargs="*", default=["squeeze_ledger=0"], metavar="NAME=VALUE",
-                        help="case variables for the baseline only (default: squeeze_ledger=0, which main of "
+    parser.add_argument("--baseline-vars", nargs="*", default=["squeeze_ledger=0", "neighbour_trigger=0"],
+                        metavar="NAME=VALUE",
+                        help="case variables for the baseline only (default: squeeze_ledger=0 and "
+                             "neighbour_trigger=0, the ledger and the pairwise neighbour trigger that main of "
                              "b9673fc predates)")
     parser.add_argument("--this-vars", nargs="*", default=[], metavar="NAME=VALUE",
                         help="case variables for this build only, e.g. yield_pressure_pg=2.5e6 reset_contacts=1 "

@@ -4,7 +4,7 @@ machine, the commit, the command and the spread over repeats; writes docs/measur
 docs/measured.md (which the README and docs/performance.md link to instead of typed-in numbers).
 
     .venv/bin/python scripts/measure-figures.py --baseline-lmp LMP | --baseline-commit b9673fc
-        [--sections demo paper screws main-job] [--repeat 3] [--work DIR] [--render-only]
+        [--sections demo paper screws main-job tests] [--repeat 3] [--work DIR] [--render-only]
 
 Sections (each a benchmark script of benchmarks/, run as a subprocess; its JSON lands in
 docs/measured/):
@@ -18,6 +18,10 @@ docs/measured/):
   (benchmarks/corotating_screws.py; its printed output is kept).
 - main-job: the README's main-job figure: `scripts/main-job.sh` (three fills from kept states) as the
   README runs it, wall time and ms/step, --repeat times.
+- tests: the README's test-suite figure: `./tsg test` as CI runs it, on a fresh clone of the
+  committed HEAD under --work (its own .venv, build, meshes and prepared inputs; the compiler cache
+  off unless --warm-compiler-cache), set-up and tests timed apart, once. It also checks the commit:
+  the section fails when a test fails.
 - scaling: strong scaling from the same restarts (benchmarks/scaling.py; --scaling-np, default 1 2).
 - memory: peak memory per rank of the meshes (benchmarks/memory.py; not a time, independent of load).
 The baseline is main when the paper-scale speed target was set (b9673fc): give it
@@ -34,6 +38,7 @@ import os
 import platform
 import re
 import shlex
+import shutil
 import statistics
 import subprocess
 import sys
@@ -108,6 +113,48 @@ def main_job(repeat: int, work: Path, lmp: str) -> dict[str, object]:
         print(f"[main-job] #{k}: {wall:.0f} s in all, {len(fills)} fills side by side, lmp {runs[-1]['lmp_s']:.0f} s, "
               f"{runs[-1]['ms_per_step']:.3g} ms/step each", flush=True)
     return {"command": ["scripts/main-job.sh", "BUILD_DIR"], "runs": runs}
+
+
+def test_suite(work: Path, warm_compiler_cache: bool) -> dict[str, object]:
+    """`./tsg test` as .ci/run runs it, on a fresh clone of HEAD: the set-up (what a fresh clone lacks:
+    .venv, the lmp build, meshes, prepared inputs) and ctest timed apart from the output's step lines."""
+    clone = work / "fresh-clone"
+    shutil.rmtree(clone, ignore_errors=True)
+    subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], check=True)
+    commit = subprocess.run(["git", "-C", str(clone), "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True, check=True).stdout.strip()
+    env = dict(os.environ)
+    if not warm_compiler_cache:
+        env["CCACHE_DISABLE"] = "1"   # a fresh machine has no compiler cache
+    cached = {"liggghts_source": (Path.home() / ".cache" / "tsg-dem").is_dir(),
+              "pip_cache": (Path.home() / ".cache" / "pip").is_dir(), "compiler_cache": warm_compiler_cache}
+    log = work / "tests.log"
+    start = time.perf_counter()
+    marks: dict[str, float] = {}
+    with log.open("w") as out:
+        proc = subprocess.Popen(["./tsg", "test"], cwd=clone, env=env, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True)
+        assert proc.stdout is not None
+        for line in proc.stdout:
+            out.write(line)
+            step = re.match(r"==> \[(setup|test)\] (.*)", line.strip())
+            if step:
+                marks.setdefault(step.group(2), time.perf_counter() - start)
+        rc = proc.wait()
+    wall = time.perf_counter() - start
+    text = log.read_text()
+    summary = re.search(r"(\d+)% tests passed, (\d+) tests failed out of (\d+)", text)
+    ctest = re.search(r"Total Test time \(real\) =\s*([\d.]+) sec", text)
+    if rc != 0 or not summary or not ctest:
+        raise SystemExit(f"[tests] ./tsg test failed (exit {rc}) on the fresh clone {clone}: see {log}")
+    setup_s = next((t for name, t in marks.items() if name.startswith("ctest")), wall)
+    steps = sorted(marks.items(), key=lambda item: item[1])
+    step_s = {name: (steps[k + 1][1] if k + 1 < len(steps) else wall) - t for k, (name, t) in enumerate(steps)}
+    print(f"[tests] {wall:.0f} s in all: set-up {setup_s:.0f} s, ctest {float(ctest.group(1)):.0f} s, "
+          f"{summary.group(3)} tests, {summary.group(2)} failed", flush=True)
+    return {"command": ["git clone REPO CLONE", "cd CLONE", "./tsg test"], "commit": commit, "cached": cached,
+            "wall_s": wall, "setup_s": setup_s, "ctest_s": float(ctest.group(1)), "tests": int(summary.group(3)),
+            "failed": int(summary.group(2)), "setup_steps_s": step_s, "log": str(log)}
 
 
 def spread(values: list[float]) -> str:
@@ -200,6 +247,25 @@ def render() -> str:
                   f"- lmp run: {spread([r['lmp_s'] for r in data['runs']])} s (the slowest of "
                   f"{data['runs'][0].get('fills', 1)} fills side by side), {spread([r['ms_per_step'] for r in data['runs']])} "
                   f"ms/step per fill ({data['runs'][0]['steps']} steps each)", ""]
+    if (MEASURED / "test_suite.json").exists():
+        data = json.loads((MEASURED / "test_suite.json").read_text())
+        meta = index.get("tests", {})
+        lines += ["## Test suite: `./tsg test` on a fresh clone", ""]
+        if meta:
+            before, after = meta["machine_before"], meta["machine_after"]
+            lines += [f"{before['cpu']}, {before['cores']} cores, commit {data['commit']}, {before['utc']} to "
+                      f"{after['utc']}; load average {load(before)} before, {load(after)} after.", ""]
+        cached = data["cached"]
+        lines += ["    " + "; ".join(data["command"]), "",
+                  f"- in all: {data['wall_s'] / 60:.1f} min ({data['tests']} tests, {data['failed']} failed)",
+                  f"- set-up of the fresh clone: {data['setup_s'] / 60:.1f} min ("
+                  + ", ".join(f"{name}: {t:.0f} s" for name, t in data["setup_steps_s"].items()
+                              if not name.startswith(("ctest", "ALL", "TESTS"))) + ")",
+                  f"- tests (ctest): {data['ctest_s'] / 60:.1f} min",
+                  f"- present before: the Debian packages; the upstream LIGGGHTS source "
+                  f"{'cached' if cached['liggghts_source'] else 'not cached'}; pip's download cache "
+                  f"{'present' if cached['pip_cache'] else 'absent'}; the compiler cache "
+                  f"{'on' if cached['compiler_cache'] else 'off (CCACHE_DISABLE=1): every file compiled'}", ""]
     if (MEASURED / "screws.txt").exists():
         meta = index.get("screws", {})
         lines += ["## Screws: stock against corotating (benchmarks/corotating_screws.py, as printed)", ""]
@@ -246,8 +312,10 @@ def main(argv: list[str] | None = None) -> int:
     baseline.add_argument("--baseline-commit", default=DEFAULT_BASELINE_COMMIT,
                           help=f"build the baseline lmp from this commit (default {DEFAULT_BASELINE_COMMIT})")
     parser.add_argument("--lmp", default=os.environ.get("TSG_LMP", str(ROOT / "build" / "lmp")))
-    parser.add_argument("--sections", nargs="+", choices=["demo", "paper", "screws", "main-job", "scaling", "memory"],
+    parser.add_argument("--sections", nargs="+", choices=["demo", "paper", "screws", "main-job", "tests", "scaling", "memory"],
                         default=["demo", "paper", "screws", "main-job"])
+    parser.add_argument("--warm-compiler-cache", action="store_true",
+                        help="tests: keep ccache on (as CI here) instead of compiling every file as a fresh machine")
     parser.add_argument("--scaling-np", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--work", type=Path, default=Path("/tmp/measure-figures"),
@@ -284,6 +352,14 @@ def main(argv: list[str] | None = None) -> int:
             elif section == "memory":
                 command = [sys.executable, ROOT / "benchmarks" / "memory.py", "--lmp", args.lmp, "--variant-np", "1", "4",
                            "--work", args.work / "memory", "--json", MEASURED / "memory.json"]
+            elif section == "tests":
+                before = machine()
+                result = test_suite(args.work, args.warm_compiler_cache)
+                (MEASURED / "test_suite.json").write_text(json.dumps(result, indent=1) + "\n")
+                index[section] = {"section": section, "command": result["command"], "machine_before": before,
+                                  "machine_after": machine()}
+                index_path.write_text(json.dumps(index, indent=1) + "\n")
+                continue
             else:
                 before = machine()
                 result = main_job(args.repeat, args.work, args.lmp)

@@ -8,10 +8,11 @@
 #define TSG_RECORD_ROLLBACK_H
 
 #include <cstddef>
-#include <cstdlib>
 #include <istream>
 #include <ostream>
 #include <string>
+
+#include "numbers.h"
 
 namespace tsg {
 
@@ -31,9 +32,8 @@ inline std::size_t keep_records_until(std::istream &in, std::ostream &out, int t
         const std::string::size_type end = line.find_first_of(" \t", start);
         if (column == time_column) {
           const std::string word = line.substr(start, end == std::string::npos ? std::string::npos : end - start);
-          char *rest = nullptr;
-          const double time = std::strtod(word.c_str(), &rest);
-          keep = !(rest != word.c_str() && *rest == '\0' && time > limit);
+          double time = 0.0;
+          keep = !(scan_real(word.c_str(), time) && time > limit);
           break;
         }
         start = end;

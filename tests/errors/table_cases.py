@@ -72,6 +72,12 @@ CASES: list[BadInput] = [
              why="a negative bound on the energy the integration may create", command=lmp("periodic", guard_max_energy_excess=-1)),
     BadInput("cases.lmp.periodic.squeeze_ledger=2", ("ERROR:", "squeeze_ledger = 2 is not allowed", "1 (the ledger) or 0"),
              why="the ledger is on or off", command=lmp("periodic", squeeze_ledger=2)),
+    *refused("periodic", "neighbour_trigger", 2, ("1 (rebuild when a pair may have been missed) or 0",),
+             why="the pairwise neighbour rule is on or off"),
+    BadInput("cases.lmp.periodic.neighbour_trigger-stock", ("ERROR:", "neigh_modify trigger pairwise is not allowed "
+                                                            "with fix wall_neighlist_screw1", "valid for half a skin only"),
+             why="the stock mesh walls' lists hold for half a skin only",
+             command=lmp("periodic", screw_drive="stock", neighbour_trigger=1)),
     # runner options, checked before the meshes and the fill
     BadInput("cases.run.holdup-negative", ("--holdup-g -1", "0 < mass < 100"),
              why="a negative hold-up mass (numpy ValueError before)", command=runner("periodic", "--holdup-g", "-1")),
