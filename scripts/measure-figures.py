@@ -243,7 +243,8 @@ def render() -> str:
             lines += [f"{before['cpu']}, {before['cores']} cores, commit {before['commit']}, {before['utc']} to "
                       f"{after['utc']}; load average {load(before)} before, {load(after)} after.", ""]
         lines += ["    " + " ".join(shlex.quote(a) for a in data["command"]), "",
-                  f"- wall time, set-up included: {spread([r['wall_s'] for r in data['runs']])} s",
+                  f"- wall time after the set-up (the fills, the summary and the report): "
+                  f"{spread([r['wall_s'] for r in data['runs']])} s",
                   f"- lmp run: {spread([r['lmp_s'] for r in data['runs']])} s (the slowest of "
                   f"{data['runs'][0].get('fills', 1)} fills side by side), {spread([r['ms_per_step'] for r in data['runs']])} "
                   f"ms/step per fill ({data['runs'][0]['steps']} steps each)", ""]

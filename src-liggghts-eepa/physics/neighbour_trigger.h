@@ -8,17 +8,19 @@
 //
 // The pairwise rule rebuilds only when a pair could have been missed:
 //   d_max <= s/2                                   keep (the stock rule's own case)
-//   d_max >= s                                     rebuild (the ghost shells of LIGGGHTS' granular
-//                                                  communication are s beyond the reach: no particle may
-//                                                  move more)
+//   d_max >= s                                     rebuild (a margin: the rule is meant for a few fast
+//                                                  particles, not for one that crossed a whole skin)
 //   otherwise, with tau = s - d_max, the "fast" set F = {i : d_i > tau}:
 //     i in F, j not in F:  d_i + d_j <= d_max + tau = s                 safe
 //     i, j not in F:       d_i + d_j <= 2 tau < s (as d_max > s/2)       safe
 //     i, j in F:           safe when their build positions are apart:
 //                          |r_ij at build| - d_i - d_j > c  (minimum image on periodic axes)
 //   rebuild when F holds more than a cap of particles (the pair test is |F|^2) or a pair of F fails.
-// So a fired particle may cross the whole skin while the others stay within s - d_max of their
-// build positions, and particles fired far apart do not rebuild for each other.
+// So a fired particle may cross almost the whole skin while the others stay within s - d_max of their
+// build positions, and particles fired far apart do not rebuild for each other. LIGGGHTS' granular
+// ghost shells obey the same pair condition (a particle is sent to a neighbouring rank within its
+// radius + the largest radius + s of the boundary: two particles that can meet share a rank while
+// d_i + d_j <= s); its mesh neighbour lists (fix wall/gran with a mesh) need d <= s/2 and are refused.
 #ifndef TSG_NEIGHBOUR_TRIGGER_H
 #define TSG_NEIGHBOUR_TRIGGER_H
 

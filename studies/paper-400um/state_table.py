@@ -1,7 +1,8 @@
-"""The paper-scale time-step ladder from one developed state (README.md beside this file): per point,
-what its thermo and squeeze records say about stability and cost over the same 20 ms.
+"""Runs of the paper-scale case from one developed state (dt-ladder/, yield-ladder/): per run, what its
+thermo and squeeze records say about stability and cost over the same simulated time.
 
-    .venv/bin/python studies/paper-400um/dt-ladder/ladder_table.py runs/paper-400um-dt-ladder > table.md
+    .venv/bin/python studies/paper-400um/state_table.py "dt / Rayleigh time" \
+        runs/paper-400um-dt-ladder/dt_fraction-0.05=0.05 runs/paper-400um-dt-ladder/reference="0.1 (reference)" ...
 """
 from __future__ import annotations
 
@@ -14,11 +15,8 @@ import numpy as np
 from tsg_analysis.liggghts_log import parse_thermo
 from tsg_analysis.run import Run
 
-POINTS = ("dt_fraction-0.05", "reference", "dt_fraction-0.2", "dt_fraction-0.3")
-FRACTION = {"reference": "0.1 (reference)", "dt_fraction-0.05": "0.05", "dt_fraction-0.2": "0.2", "dt_fraction-0.3": "0.3"}
 
-
-def row(point: Path) -> str:
+def row(point: Path, label: str) -> str:
     run = Run(point)
     log = run.log
     blocks = [b for b in parse_thermo(log) if "Time" in b and len(b["Time"])]
@@ -33,7 +31,7 @@ def row(point: Path) -> str:
     release = ledger.release_speed_quantiles
     outcome = (f"stopped at t = {end:.4f} s: lost atoms ({lost.group(1)} → {lost.group(2)}, out of the domain)" if lost
                else "ran to the end, nothing lost" if "TSG-DONE" in log else "unfinished (the part run so far)")
-    return (f"| {FRACTION[point.name]} | {outcome} | {1e3 * (end - start):.1f} | {steps} | {1e3 * seconds / steps:.1f} | "
+    return (f"| {label} | {outcome} | {1e3 * (end - start):.1f} | {steps} | {1e3 * seconds / steps:.1f} | "
             f"{1e3 * builds / steps:.0f} | {seconds / (end - start) / 3600:.1f} | "
             f"{int(column['fast'][-1] - column['fast'][0])} | {ledger.events} | {release[0.99]:.3g} / {release[1.0]:.3g} | "
             f"{ledger.peak_wall_quantiles[1.0]:.3g} | {int(column['crossed'][-1] - column['crossed'][0])} | "
@@ -42,15 +40,19 @@ def row(point: Path) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("study", type=Path, help="the tsg-accuracy study directory")
-    study = parser.parse_args().study
-    print("| dt / Rayleigh time | outcome | simulated ms | steps | ms/step | neighbour builds per 1 000 steps | "
+    parser.add_argument("setting", help="the first column's title: what the runs vary")
+    parser.add_argument("runs", nargs="+", metavar="RUN_DIR=LABEL", help="each run directory and its row label")
+    args = parser.parse_args()
+    print(f"| {args.setting} | outcome | simulated ms | steps | ms/step | neighbour builds per 1 000 steps | "
           "core-h per simulated s | fast events | squeezes | release speed 99 % / max, m/s | peak wall δ/R max | "
           "wall crossings | max speed, m/s | max energy excess |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for name in POINTS:
-        if (study / name / "log.lammps").is_file():
-            print(row(study / name))
+    for item in args.runs:
+        path, _, label = item.partition("=")
+        if not label:
+            parser.error(f"{item}: give RUN_DIR=LABEL")
+        if (Path(path) / "log.lammps").is_file():
+            print(row(Path(path), label))
 
 
 if __name__ == "__main__":
