@@ -178,7 +178,19 @@ def collected_note(data: dict[str, object], log: Path) -> list[str]:
 
 
 def load(m: dict[str, object]) -> str:
-    return "/".join(f"{v:.1f}" for v in m["load_average"])
+    values = m["load_average"]
+    assert isinstance(values, (list, tuple))
+    return "/".join(f"{v:.1f}" for v in values)
+
+
+def machine_line(meta: dict[str, object], commit: str | None = None) -> list[str]:
+    """The machine, commit, times and load of a section run by this script (index.json), if recorded."""
+    if not meta:
+        return []
+    before, after = meta["machine_before"], meta["machine_after"]
+    assert isinstance(before, dict) and isinstance(after, dict)
+    return [f"{before['cpu']}, {before['cores']} cores, commit {commit or before['commit']}, {before['utc']} to "
+            f"{after['utc']}; load average {load(before)} before, {load(after)} after.", ""]
 
 
 def render() -> str:
@@ -236,12 +248,8 @@ def render() -> str:
         lines.append("")
     if (MEASURED / "main_job.json").exists():
         data = json.loads((MEASURED / "main_job.json").read_text())
-        meta = index.get("main-job", {})
-        lines += ["## Main job: the periodic demo case as the README runs it", ""]
-        if meta:
-            before, after = meta["machine_before"], meta["machine_after"]
-            lines += [f"{before['cpu']}, {before['cores']} cores, commit {before['commit']}, {before['utc']} to "
-                      f"{after['utc']}; load average {load(before)} before, {load(after)} after.", ""]
+        lines += ["## Main job: the periodic demo case as the README runs it", "",
+                  *machine_line(index.get("main-job", {}))]
         lines += ["    " + " ".join(shlex.quote(a) for a in data["command"]), "",
                   f"- wall time after the set-up (the fills, the summary and the report): "
                   f"{spread([r['wall_s'] for r in data['runs']])} s",
@@ -250,12 +258,8 @@ def render() -> str:
                   f"ms/step per fill ({data['runs'][0]['steps']} steps each)", ""]
     if (MEASURED / "test_suite.json").exists():
         data = json.loads((MEASURED / "test_suite.json").read_text())
-        meta = index.get("tests", {})
-        lines += ["## Test suite: `./tsg test` on a fresh clone", ""]
-        if meta:
-            before, after = meta["machine_before"], meta["machine_after"]
-            lines += [f"{before['cpu']}, {before['cores']} cores, commit {data['commit']}, {before['utc']} to "
-                      f"{after['utc']}; load average {load(before)} before, {load(after)} after.", ""]
+        lines += ["## Test suite: `./tsg test` on a fresh clone", "",
+                  *machine_line(index.get("tests", {}), data["commit"])]
         cached = data["cached"]
         lines += ["    " + "; ".join(data["command"]), "",
                   f"- in all: {data['wall_s'] / 60:.1f} min ({data['tests']} tests, {data['failed']} failed)",

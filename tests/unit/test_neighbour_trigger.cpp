@@ -20,7 +20,7 @@ TEST(NeighbourTrigger, LargestDisplacementDecidesAtHalfAndWholeSkin)
 {
   const double skin = 8e-5;
   EXPECT_EQ(tsg::trigger::from_largest(0.0, skin), Decision::keep);
-  EXPECT_EQ(tsg::trigger::from_largest(0.5 * skin, skin), Decision::keep);   // the stock rule keeps it too
+  EXPECT_EQ(tsg::trigger::from_largest(0.5 * skin, skin), Decision::keep);  // the stock rule keeps it too
   EXPECT_EQ(tsg::trigger::from_largest(0.5 * skin * (1 + 1e-12), skin), Decision::check_pairs);
   EXPECT_EQ(tsg::trigger::from_largest(0.999 * skin, skin), Decision::check_pairs);
   EXPECT_EQ(tsg::trigger::from_largest(skin, skin), Decision::rebuild);
@@ -35,13 +35,13 @@ TEST(NeighbourTrigger, TwoFastParticlesAreApartExactlyWhileTheirReachesDoNotMeet
   const std::vector<Moved> touching{{{0.0, 0.0, 0.0}, 1e-4}, {{1e-3 - 1e-9, 0.0, 0.0}, 1e-4}};
   EXPECT_TRUE(tsg::trigger::fast_pairs_apart(just_apart, reach, kOpen));
   EXPECT_FALSE(tsg::trigger::fast_pairs_apart(touching, reach, kOpen));
-  EXPECT_TRUE(tsg::trigger::fast_pairs_apart({touching[0]}, reach, kOpen));   // one fast particle: no pair
+  EXPECT_TRUE(tsg::trigger::fast_pairs_apart({touching[0]}, reach, kOpen));  // one fast particle: no pair
 }
 
 TEST(NeighbourTrigger, PeriodicAxesUseTheMinimumImage)
 {
   const Box periodic_x{{0.01, 1.0, 1.0}, {true, false, false}};
-  const double a[3] = {0.0005, 0.2, 0.3}, b[3] = {0.0095, 0.2, 0.3};   // 1 mm apart through the boundary
+  const double a[3] = {0.0005, 0.2, 0.3}, b[3] = {0.0095, 0.2, 0.3};  // 1 mm apart through the boundary
   EXPECT_NEAR(tsg::trigger::separation(a, b, periodic_x), 1e-3, 1e-15);
   EXPECT_NEAR(tsg::trigger::separation(a, b, kOpen), 9e-3, 1e-15);
   const std::vector<Moved> across{{{a[0], a[1], a[2]}, 1e-4}, {{b[0], b[1], b[2]}, 1e-4}};
@@ -52,10 +52,10 @@ TEST(NeighbourTrigger, PeriodicAxesUseTheMinimumImage)
 TEST(NeighbourTrigger, ShortPeriodicBoxesFallBackToTheStockRule)
 {
   const double reach = 1e-3, skin = 2e-4;
-  EXPECT_TRUE(tsg::trigger::box_allows_pair_test({{2.0 * (reach + 2 * skin) * 1.01, 1, 1}, {true, false, false}},
-                                                 reach, skin));
-  EXPECT_FALSE(tsg::trigger::box_allows_pair_test({{2.0 * (reach + 2 * skin), 1, 1}, {true, false, false}},
-                                                  reach, skin));
+  EXPECT_TRUE(
+      tsg::trigger::box_allows_pair_test({{2.0 * (reach + 2 * skin) * 1.01, 1, 1}, {true, false, false}}, reach, skin));
+  EXPECT_FALSE(
+      tsg::trigger::box_allows_pair_test({{2.0 * (reach + 2 * skin), 1, 1}, {true, false, false}}, reach, skin));
   EXPECT_TRUE(tsg::trigger::box_allows_pair_test({{1e-4, 1, 1}, {false, false, false}}, reach, skin));
 }
 
@@ -74,7 +74,7 @@ TEST(NeighbourTrigger, KeepsTheListsOnlyWhenNoLeftOutPairCanBeInReach)
     for (Moved &p : all) {
       p = {{where(random), where(random), where(random)}, 0.0};
       const double u = fraction(random);
-      p.moved = skin * (u < 0.8 ? 0.1 * u : u);   // most slow, a few fast
+      p.moved = skin * (u < 0.8 ? 0.1 * u : u);  // most slow, a few fast
     }
     double largest = 0.0;
     for (const Moved &p : all) largest = std::max(largest, p.moved);
@@ -94,11 +94,11 @@ TEST(NeighbourTrigger, KeepsTheListsOnlyWhenNoLeftOutPairCanBeInReach)
     for (std::size_t i = 0; i < all.size(); ++i)
       for (std::size_t j = i + 1; j < all.size(); ++j) {
         const double at_build = tsg::trigger::separation(all[i].x, all[j].x, box);
-        if (at_build <= reach + skin) continue;   // in the lists
+        if (at_build <= reach + skin) continue;  // in the lists
         EXPECT_GT(at_build - all[i].moved - all[j].moved, reach) << "trial " << trial << " pair " << i << "," << j;
       }
   }
-  EXPECT_GT(kept_by_pairs, 20);   // the test exercises every outcome
+  EXPECT_GT(kept_by_pairs, 20);  // the test exercises every outcome
   EXPECT_GT(kept, kept_by_pairs);
   EXPECT_GT(rebuilt, 100);
 }
