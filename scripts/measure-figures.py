@@ -258,7 +258,7 @@ def render() -> str:
                   f"ms/step per fill ({data['runs'][0]['steps']} steps each)", ""]
     if (MEASURED / "test_suite.json").exists():
         data = json.loads((MEASURED / "test_suite.json").read_text())
-        lines += ["## Test suite: `./tsg test` on a fresh clone", "",
+        lines += ["## Test suite: the README's test command on a fresh clone", "",
                   *machine_line(index.get("tests", {}), data["commit"])]
         cached = data["cached"]
         lines += ["    " + "; ".join(data["command"]), "",

@@ -274,12 +274,9 @@ def test_replicas_run_each_point_with_seeds_and_combine_their_windows(tmp_path):
     """--replicas 3: every run point is three runs (seeds 1-3) in <point>/seed-K; the analysis
     combines them by their window means; the sampling ladder truncates each reference replica."""
     import json
-    import sys
 
+    from make_fixture import write_run   # tests/analysis/ is on PYTHONPATH (tests/CMakeLists.txt)
     from tsg_cases.accuracy import Study, parse
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "analysis"))
-    from make_fixture import write_run
 
     study = tmp_path / "study"
     args = parse([str(study), "--replicas", "3", "--ladder", "dt_fraction", "0.15", "--ladder", "sampling", "0.5"])

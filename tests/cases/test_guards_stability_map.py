@@ -3,14 +3,11 @@ from __future__ import annotations
 
 import json
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-import stability_map  # noqa: E402
+import stability_map   # benchmarks/ is on PYTHONPATH (tests/CMakeLists.txt)
 
 
 def test_bisection_brackets_a_known_threshold():

@@ -1,7 +1,7 @@
 """Write docs/bad-input.md from every row of tests/errors/table_*.py: what is refused and why.
 
-    python tests/errors/list_cases.py            # rewrite the doc
-    python tests/errors/list_cases.py --check    # exit 1 when the doc is out of date (test_doc.py)
+    PYTHONPATH=tests python tests/errors/list_cases.py            # rewrite the doc
+    PYTHONPATH=tests python tests/errors/list_cases.py --check    # exit 1 when the doc is out of date (test_doc.py)
 """
 from __future__ import annotations
 
@@ -15,8 +15,7 @@ DOC = HERE.parents[1] / "docs" / "bad-input.md"
 
 
 def tables() -> dict[str, list]:
-    if str(HERE) not in sys.path:    # run as a script: the table modules sit next to this file
-        sys.path.insert(0, str(HERE))
+    # the table modules sit next to this file (on sys.path when it runs as a script); they import tests/tsg_harness
     found = {}
     for path in sorted(HERE.glob("table_*.py")):
         found[path.stem[len("table_"):]] = importlib.import_module(path.stem).CASES
@@ -33,7 +32,7 @@ def render() -> str:
     lines = ["# Bad input: what is refused and why",
              "",
              "Generated from the bad-input campaign tables (`tests/errors/table_*.py`) by",
-             "`python tests/errors/list_cases.py`; `ctest -R errors.doc` fails when this file is out of date.",
+             "`PYTHONPATH=tests python tests/errors/list_cases.py`; `ctest -R errors.doc` fails when this file is out of date.",
              "Each row is a test (`ctest -R errors.`): the run must exit non-zero (or, for rows marked",
              "handled, exit 0), print every listed word in its first message (`log.lammps` for lmp",
              "inputs), show no Python traceback, write no NaN, and leave the named earlier outputs intact.",
@@ -55,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     text = render()
     if args.check:
         if not DOC.is_file() or DOC.read_text() != text:
-            print(f"{DOC} is out of date: run python tests/errors/list_cases.py", file=sys.stderr)
+            print(f"{DOC} is out of date: run PYTHONPATH=tests python tests/errors/list_cases.py", file=sys.stderr)
             return 1
         return 0
     DOC.write_text(text)

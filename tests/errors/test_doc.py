@@ -3,7 +3,7 @@ from list_cases import DOC, render, tables
 
 
 def test_doc_is_up_to_date() -> None:
-    assert DOC.read_text() == render(), "docs/bad-input.md is out of date: run python tests/errors/list_cases.py"
+    assert DOC.read_text() == render(), "docs/bad-input.md is out of date: run PYTHONPATH=tests python tests/errors/list_cases.py"
 
 
 def test_every_row_says_why() -> None:
