@@ -123,9 +123,14 @@ def _compare(args: argparse.Namespace) -> int:
         raise UsageError(f"--csv {args.csv}: is a directory; give a file name")
     every = reference + [run for runs in variants.values() for run in runs]
     start = None if args.start is None else max(_start("--start", args.start, run) for run in every)
-    if start is not None:
-        print(f"every run from t = {start:.4g} s" + (" (the latest detected steady start)" if args.start == "auto" else ""))
-    rows = compare_runs(reference, variants, start)
+    end = None if args.end is None else _time("--end", args.end)
+    if start is not None and end is not None and end <= start:
+        raise UsageError(f"--end {args.end}: must be later than the window's start, {start:.4g} s")
+    if start is not None or end is not None:
+        print("every run" + ("" if start is None else f" from t = {start:.4g} s")
+              + (" (the latest detected steady start)" if args.start == "auto" else "")
+              + ("" if end is None else f" up to t = {end:.4g} s"))
+    rows = compare_runs(reference, variants, start, end)
     print(sweep_markdown(rows), end="")
     if args.csv is not None:
         write_sweep_csv(rows, args.csv)
@@ -141,12 +146,16 @@ def _start(option: str, text: str, run: Run) -> float:
         if found is None:
             raise UsageError(f"{option} auto: {run.path} has too short a record to detect a steady state; give a time")
         return found
+    return _time(option, text, "a time in s >= 0, or 'auto'")
+
+
+def _time(option: str, text: str, allowed: str = "a time in s >= 0") -> float:
     try:
         value = float(text)
     except ValueError:
         value = math.nan
     if not value >= 0.0:
-        raise UsageError(f"{option} {text} is not allowed: a time in s >= 0, or 'auto'")
+        raise UsageError(f"{option} {text} is not allowed: {allowed}")
     return value
 
 
@@ -240,6 +249,8 @@ def parser() -> argparse.ArgumentParser:
     compare.add_argument("--csv", type=Path, help="also write the table as CSV")
     compare.add_argument("--start", help="analyse every run from this time on, s, or 'auto': the latest of the runs' "
                                          "detected steady starts (default: the whole sampling record)")
+    compare.add_argument("--end", help="analyse every run up to this time, s (default: the end of each record), "
+                                       "so that runs of different lengths are compared over the same window")
     compare.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     domains = commands.add_parser("domains", help="the periodic sub-domain against the full granulator")
     domains.add_argument("full_run", type=Path)

@@ -56,9 +56,9 @@ def _part(summary: RunSummary, quantity: str, action: Callable[[], None]) -> Non
         summary.not_available.append((quantity, str(problem)))
 
 
-def summarise(run: Run, start: float | None = None) -> RunSummary:
+def summarise(run: Run, start: float | None = None, end: float | None = None) -> RunSummary:
     """Every quantity of the run's summary ± 95 % interval, over the whole sampling record or over
-    its part from `start` s on (the window rule of Run)."""
+    its part from `start` s on, up to `end` s (the window rule of Run)."""
     summary = RunSummary(run.path, None)
     _part(summary, "run parameters", lambda: setattr(summary, "parameters", run.parameters))
     run.zones  # every per-element number is named by zones.txt: without it there is no summary
@@ -67,12 +67,12 @@ def summarise(run: Run, start: float | None = None) -> RunSummary:
         summary.rows += [SummaryRow(quantity, scope, e) for (quantity, scope), e in found.items() if quantity in UNITS]
 
     def records() -> None:
-        summary.complete_records = int(run.records(start).sum())
-        rows({(RESIDENCE_RECORDS, scope): e for scope, e in run.residence_means(start).items()})
+        summary.complete_records = int(run.records(start, end).sum())
+        rows({(RESIDENCE_RECORDS, scope): e for scope, e in run.residence_means(start, end).items()})
 
-    _part(summary, MASS_FLOW, lambda: rows({(MASS_FLOW, name): e for name, e in run.sensor_flows(start).items()}))
+    _part(summary, MASS_FLOW, lambda: rows({(MASS_FLOW, name): e for name, e in run.sensor_flows(start, end).items()}))
     _part(summary, RESIDENCE_RECORDS, records)
-    _part(summary, "element statistics", lambda: rows(run.element_keys(start)))
+    _part(summary, "element statistics", lambda: rows(run.element_keys(start, end)))
     return summary
 
 
@@ -182,23 +182,23 @@ class ComparisonRow:
     difference: Difference
 
 
-def combined_rows(runs: Sequence[Run], start: float | None = None) -> dict[Key, Estimate]:
+def combined_rows(runs: Sequence[Run], start: float | None = None, end: float | None = None) -> dict[Key, Estimate]:
     """Replicas (runs that differ only in the seed) combined quantity by quantity, each over its
-    record from `start` s on (all of it when None)."""
+    record from `start` s on up to `end` s (all of it when None)."""
     if not runs:
         raise ValueError("no run directories")
-    combined = combine_summaries([summarise(run, start) for run in runs])
+    combined = combine_summaries([summarise(run, start, end) for run in runs])
     return {(r.quantity, r.scope): r.estimate for r in combined.rows}
 
 
 def compare_runs(reference: Sequence[Run], variants: Mapping[str, Sequence[Run]],
-                 start: float | None = None) -> list[ComparisonRow]:
+                 start: float | None = None, end: float | None = None) -> list[ComparisonRow]:
     """Each variant against the reference, quantity by quantity: difference ± 95 % interval; every
-    run over its record from `start` s on (all of it when None)."""
-    base = combined_rows(reference, start)
+    run over its record from `start` s on up to `end` s (all of it when None)."""
+    base = combined_rows(reference, start, end)
     rows = []
     for label, runs in variants.items():
-        for key, value in combined_rows(runs, start).items():
+        for key, value in combined_rows(runs, start, end).items():
             if key in base:
                 rows.append(ComparisonRow(label, *key, base[key], value, difference(base[key], value)))
     return rows

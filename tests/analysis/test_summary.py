@@ -126,7 +126,7 @@ def test_compare_command_line_window(tmp_path, periodic_run, unsteady_run):
                                "--csv", str(csv_path), *options], capture_output=True, encoding="utf-8",
                               env=dict(os.environ, PYTHONPATH=str(analysis)))
         assert proc.returncode == 0, proc.stderr
-        if options:
+        if options[:1] == ("--start",):
             assert f"every run from t = {float(options[1]):.4g} s" in proc.stdout
         with open(csv_path, encoding="utf-8") as stream:
             return {(row["quantity"], row["scope"]): float(row["variant_mean"]) for row in csv.DictReader(stream)}
@@ -140,6 +140,16 @@ def test_compare_command_line_window(tmp_path, periodic_run, unsteady_run):
     for key, mean in expected.items():
         assert windowed[key] == pytest.approx(mean, rel=1e-9, abs=1e-12)
     assert any(abs(windowed[key] - whole[key]) > 1e-6 * max(1.0, abs(whole[key])) for key in windowed)
+
+    # --end T: every run up to T s (runs of different lengths over one window); the first half of the
+    # drifting run, which differs from its second half above
+    early = variant_means("--end", f"{start}")
+    expected_early = {(r.quantity, r.scope): r.value.mean
+                      for r in compare_runs([Run(periodic_run[0])], {"u": [Run(unsteady_run[0])]}, None, start)}
+    assert early.keys() == expected_early.keys()
+    for key, mean in expected_early.items():
+        assert early[key] == pytest.approx(mean, rel=1e-9, abs=1e-12)
+    assert any(abs(early[key] - windowed[key]) > 1e-6 * max(1.0, abs(windowed[key])) for key in early)
 
 
 def test_contact_health_reads_the_guards_columns(tmp_path):
