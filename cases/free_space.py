@@ -136,6 +136,9 @@ def bore_box(sections: Sections) -> tuple[np.ndarray, np.ndarray]:
     return points.min(axis=0), points.max(axis=0)
 
 
+STALLED_BATCHES = 20   # fill: batches in a row that place no particle before the space counts as full
+
+
 def fill(mesh_dir: Path, mass: float, d_mean: float, sigma: float, density: float, x_range: tuple[float, float],
          periodic: bool, seed: int, margin_fraction: float = 0.05, classes: int = 7):
     """Random sequential placement of spheres (truncated-normal PSD, cases/psd.py) until `mass`.
@@ -187,9 +190,12 @@ def fill(mesh_dir: Path, mass: float, d_mean: float, sigma: float, density: floa
 
     grid: dict[tuple[int, int, int], list[int]] = {}
     remaining = list(chosen)
-    for _attempt in range(60):
-        if not remaining:
-            break
+    # batches until every particle is placed or the space is full: STALLED_BATCHES batches in a row
+    # that place nothing (a fixed batch count stopped the paper's 2.7 g at 60 921 of 63 320 particles,
+    # at a solid fraction of 0.05, far below where random placement jams)
+    empty_batches = 0
+    while remaining and empty_batches < STALLED_BATCHES:
+        placed_before = len(placed_d)
         d = remaining[0]
         batch = 4000
         inset = 0 if periodic else d / 2
@@ -208,6 +214,7 @@ def fill(mesh_dir: Path, mass: float, d_mean: float, sigma: float, density: floa
             placed_centres.append(centre)
             placed_d.append(d)
             remaining.pop(0)
+        empty_batches = empty_batches + 1 if len(placed_d) == placed_before else 0
     if remaining:
         raise RuntimeError(f"free space too small: placed {len(placed_d)} of {len(chosen)} particles "
                            f"({len(remaining)} left); lower --mass or --d-mean")
