@@ -5,7 +5,8 @@ side by side in one invocation.
         [--repeat 1] [--startup-steps 10000] [--work DIR] [--callgrind-steps 0]
 
 1. Prepare (once per --work directory): cases/run_case.py periodic --scale paper with no steps:
-   the 1 um meshes, the zones and the static fill (about 54 000 particles of 400 um, 2.3 g).
+   the 1 um meshes, the zones and the static fill (63 320 particles of 400 um, 2.7 g; the figures in
+   docs/measured/paper_cost.json were taken at the earlier 2.3 g, 53 940 particles).
 2. Motion restart (once per --work directory, this build): the case runs --startup-steps from the
    fill (screws turning, particles falling onto them and dragged along) and writes a restart file
    (tens of MB: kept out of git, made here). The demo scale instead starts, unless --startup-steps

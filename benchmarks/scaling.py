@@ -3,8 +3,8 @@
     .venv/bin/python benchmarks/scaling.py [--scales demo paper] [--np 1 2 4 8 16] [--steps 2000 300]
         [--repeat 3] [--work DIR] [--json FILE]
 
-For each scale (cases/run_case.py --scale demo: 3 453 particles of 1 mm, 4 um meshes; paper: 53 940
-of 400 um, 1 um meshes) the case is prepared and run from its static fill into motion once, and a
+For each scale (cases/run_case.py --scale demo: 3 453 particles of 1 mm, 4 um meshes; paper: 63 320
+of 400 um (2.7 g), 1 um meshes) the case is prepared and run from its static fill into motion once, and a
 restart written (benchmarks/paper_cost.py: prepare, make_restart; kept in --work between calls).
 Then each rank count reads that restart and runs the first --steps steps of the case as it is
 (`processors N 1 1`, slabs along the screw axis; LIGGGHTS-PUBLIC has no load balancing), rank

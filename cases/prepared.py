@@ -3,7 +3,7 @@ static fill of the periodic case and the feed regions of the full and non-period
 
     python -m tsg_cases.prepared defaults [CASE ...] # the case files' defaults (./tsg setup: periodic, nonperiodic)
     python -m tsg_cases.prepared fill OUT.in --mesh-dir DIR [--d-mean 0.0004] [--psd-sigma 0.05]
-        [--rho-p 1263] [--holdup-g 2.3] [--seed 12345]
+        [--rho-p 1263] [--holdup-g 2.7] [--seed 12345]
     python -m tsg_cases.prepared feed OUT.in --mesh-dir DIR [--d-mean 0.0004] [--feed-at element:7]
 
 `defaults` reads the default values of each case file (its `variable ... index` lines, one source)
@@ -36,7 +36,13 @@ from tsg_meshes.build import exclusive_build, tolerance_tag
 from tsg_meshes.machine import read_machine
 
 ROOT = CASE_DIR.parent
-DEFAULT_HOLDUP_G = 2.3   # the periodic hold-up (cases/run_case.py DEFAULT_HOLDUP_G: 2.3 g, seed paper Section 3)
+# The periodic domain's hold-up, g (docs/cases.md, "The periodic hold-up: derived, not given"): at the
+# paper's scale, the paper's own particle counts for the domain (Section 3.2: "just under 1200" at
+# 1.5 mm, "approximately 4100" at 1.0 mm, "approx. 4.1 M" at 0.1 mm, the same mass at every size:
+# 2.68-2.73 g); on the demo machine, the full granulator's mean fill (14.4 kg/h x 3 s = 12 g over
+# 500 mm) on the section's 95.83 mm, which its studies and kept states were made with.
+PAPER_HOLDUP_G = 2.7
+DEMO_HOLDUP_G = 2.3
 DEFAULT_SEED = 12345     # the fill seed of cases/run_case.py
 FEED_LENGTH = 0.028      # m, axial length of the feed region (cases/run_case.py)
 PAPER_FEED = {"periodic": None, "full": "element:7", "nonperiodic": "inlet"}   # seed paper Section 2.3
@@ -242,7 +248,7 @@ def prepare_defaults(cases: tuple[str, ...] = ("periodic", "nonperiodic", "full"
         target = default_target(case)
         d_mean = float(values["d_mean"])
         if case == "periodic":
-            numbers = (d_mean, float(values["psd_sigma"]), float(values["rho_p"]), DEFAULT_HOLDUP_G, DEFAULT_SEED)
+            numbers = (d_mean, float(values["psd_sigma"]), float(values["rho_p"]), PAPER_HOLDUP_G, DEFAULT_SEED)
             key = hashlib.sha256(repr(("fill", numbers, mesh_key(mesh_dir))).encode()).hexdigest()[:16]
             if up_to_date(target, key, data=True):
                 print(f"[prepare] {target} is up to date")
@@ -285,7 +291,7 @@ def main(argv: list[str] | None = None) -> int:
         p.add_argument("--d-mean", type=positive, default=4e-4, help="mean particle diameter, m")
     f.add_argument("--psd-sigma", type=positive, default=0.05, help="relative standard deviation of the PSD")
     f.add_argument("--rho-p", type=positive, default=1263.0, help="particle density, kg/m^3 (the run's rho_p)")
-    f.add_argument("--holdup-g", type=positive, default=DEFAULT_HOLDUP_G, help="hold-up mass, g")
+    f.add_argument("--holdup-g", type=positive, default=PAPER_HOLDUP_G, help="hold-up mass, g")
     f.add_argument("--seed", type=int, default=DEFAULT_SEED)
     g.add_argument("--feed-at", default="element:7", help="'inlet' or 'element:N' (zone N of the meshes)")
     parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")

@@ -52,19 +52,15 @@ SCALES: dict[str, dict[str, Any]] = {
     # in 3D between conveying flights, and a 1.4 mm spacer between staggered discs: every gap
     # >= 1.2 x the largest particle; the paper's friction and guards apply. The machine follows the
     # particles (machine_clearances): -v d_mean 0.0015 gets 2.1 / 4.2 / 2.1 mm.
-    "demo": {"tolerance": 4e-6, "gap_factor": 1.2,
+    "demo": {"tolerance": 4e-6, "gap_factor": 1.2, "holdup_g": prepared.DEMO_HOLDUP_G,
              "vars": {"d_mean": 0.001, "dt_fraction": 0.2, "thermo_every": 2000, "stats_every": 2000},
              "times": {"periodic": {"t_startup": 0.1, "t_sample": 0.2}, "nonperiodic": {"t_run": 0.5},
                        "full": {"t_sample": 0.5, "t_max_startup": 10.0}}},
-    "paper": {"tolerance": 1e-6, "gap_factor": None,
+    "paper": {"tolerance": 1e-6, "gap_factor": None, "holdup_g": prepared.PAPER_HOLDUP_G,
               "vars": {"d_mean": 0.0004, "dt_fraction": 0.1, "thermo_every": 10000, "stats_every": 10000},
               "times": {"periodic": {"t_startup": 0.5, "t_sample": 1.0}, "nonperiodic": {"t_run": 5.0},
                         "full": {"t_sample": 1.0, "t_max_startup": 10.0}}},
 }
-# Hold-up of the periodic domain: its free volume (435.26 mm² x 95.83 mm = 41.7 cm³) at the mean
-# solid fraction of the full granulator at 14.4 kg/h (about 0.044: 12 g over 500 mm, Section 3)
-# gives 2.3 g. Override with --holdup-g (e.g. from a full run's hold-up summary).
-DEFAULT_HOLDUP_G = 2.3
 PSD_CLASSES = 7   # classes of the fill's PSD (free_space.fill)
 DEFAULT_FILL_SEED = 12345
 MAX_FEED_SEED = 2_000_000   # 10000 + 1000 x seed stays below 2^31
@@ -274,7 +270,7 @@ def run(args: argparse.Namespace) -> int:
     if state is not None:   # the particles are the state's: no fill to place
         what = f"the kept state {state.path} (fill seed {state.seed}, t = {state.t_startup:g} s, step {state.step})"
     elif args.case == "periodic":
-        holdup = (args.holdup_g or DEFAULT_HOLDUP_G) * 1e-3
+        holdup = (args.holdup_g or scale["holdup_g"]) * 1e-3
         include, data = prepared.fill_files(mesh_dir, d_mean, float(effective.get("psd_sigma", 0.05)), rho_p,
                                             holdup * 1e3, DEFAULT_FILL_SEED if args.seed is None else args.seed)
         prepared.write(out / "fill.in", include, "tsg-run-case", data)

@@ -11,7 +11,7 @@ docs/measured/):
 - demo: the periodic demo case (3 457 particles of 1 mm, 4 um meshes) from its kept steady state
   (t = 1.5 s), ms/step on 1 and 2 ranks, this build against the baseline lmp side by side
   (interleaved in each repeat): "not slower anywhere" (benchmarks/paper_cost.py --scale demo).
-- paper: the same for the paper-scale periodic case (53 940 particles of 400 um, 1 um meshes):
+- paper: the same for the paper-scale periodic case (63 320 particles of 400 um, 1 um meshes):
   core-seconds per step, particle-steps per core-second, core-hours per simulated second
   (benchmarks/paper_cost.py --scale paper).
 - screws: the README's screw table, stock against corotating screws at 20, 5, 1 um
