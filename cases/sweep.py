@@ -261,7 +261,7 @@ def detected_steady_start(runs: list[Run]) -> tuple[float, str]:
 
 def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | None = None, parts: int = 2) -> int:
     from tsg_analysis.figures import plot_element_panels, plot_paper_mass_flow
-    from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION
+    from tsg_analysis.model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION, SPEED
     from tsg_analysis.run import Run
     from tsg_analysis.run_files import AnalysisInputError
     from tsg_analysis.summary import compare_runs, sweep_markdown, thermo_largest, write_sweep_csv
@@ -327,7 +327,7 @@ def report(sweep: Path, dirs: dict[str, Path], out: Path, start: float | str | N
     flux = {r.variant: r.difference for r in rows if r.quantity == MASS_FLOW and r.scope == DOMAIN_FLUX}
     plot_paper_mass_flow(out / "mass-flow.png", [(name, flux.get(name), PAPER_MASS_FLOW.get(name)) for name in variants],
                          PAPER_MASS_FLOW["reference"])
-    plot_element_panels(out / "elements.png", rows, [SOLID_FRACTION, AXIAL_VELOCITY])
+    plot_element_panels(out / "elements.png", rows, [SOLID_FRACTION, SPEED, AXIAL_VELOCITY])
     (out / "parts.md").write_text(header + f"Domain flux in {parts} consecutive equal parts of the window (replica "
                                   "window means ± 95 %): does a difference persist as the start-up fades, and has "
                                   "the flux stopped drifting?\n\n" + parts_markdown(flux_by_part),

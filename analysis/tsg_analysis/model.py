@@ -22,10 +22,11 @@ if TYPE_CHECKING:
 
 # The quantities every run reports (summary, report, sweep tables), with their units
 MASS_FLOW, RESIDENCE_RECORDS, RESIDENCE_HOLDUP = "mass flow", "residence time (records)", "residence time (hold-up/throughput)"
-SOLID_FRACTION, AXIAL_VELOCITY = "solid fraction", "axial velocity"
-UNITS = {MASS_FLOW: "kg/h", RESIDENCE_RECORDS: "s", RESIDENCE_HOLDUP: "s", SOLID_FRACTION: "-", AXIAL_VELOCITY: "m/s"}
+SOLID_FRACTION, AXIAL_VELOCITY, SPEED = "solid fraction", "axial velocity", "speed"
+# per element, the paper's Fig. 9 quantities: solid fraction, speed (mean |v|) and axial velocity
+UNITS = {MASS_FLOW: "kg/h", RESIDENCE_RECORDS: "s", RESIDENCE_HOLDUP: "s", SOLID_FRACTION: "-", AXIAL_VELOCITY: "m/s",
+         SPEED: "m/s"}
 DOMAIN_FLUX = "domain flux Σ m v_x / L"
-SPEED = "speed"
 # the key quantities of the accuracy study (accuracy.py) and the domain comparison
 KEY_UNITS = {MASS_FLOW: UNITS[MASS_FLOW], SOLID_FRACTION: UNITS[SOLID_FRACTION], AXIAL_VELOCITY: UNITS[AXIAL_VELOCITY],
              SPEED: "m/s", RESIDENCE_RECORDS: UNITS[RESIDENCE_RECORDS]}
@@ -81,7 +82,8 @@ class RunAnalysis:
         found.update({(RESIDENCE_RECORDS, scope): e for scope, e in self.rtd_means.items()})
         found.update({(RESIDENCE_HOLDUP, scope): e for scope, e in self.holdup_residence.items()})
         if self.profile is not None:
-            for quantity, name in ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity")):
+            for quantity, name in ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity"),
+                                   (SPEED, "mean_speed")):
                 found.update({(quantity, label): e for label, e in
                               zip(self.profile.zones.labels, self.profile.estimates.get(name, []))})
         return found

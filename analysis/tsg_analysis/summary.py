@@ -19,7 +19,7 @@ from pathlib import Path
 
 from . import systematics
 from .liggghts_log import parse_thermo
-from .model import AXIAL_VELOCITY, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION, UNITS, Key
+from .model import AXIAL_VELOCITY, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION, SPEED, UNITS, Key
 from .parameters import RunParameters
 from .run import Run
 from .run_files import AnalysisInputError
@@ -156,7 +156,7 @@ def summary_table(runs: Run | Sequence[Run]) -> str:
     for quantity, unit in UNITS.items():
         rows = [r for r in summary.rows if r.quantity == quantity]
         reasons = [why for q, why in summary.not_available if q == quantity or (q == "element statistics"
-                   and quantity in (RESIDENCE_HOLDUP, SOLID_FRACTION, AXIAL_VELOCITY))]
+                   and quantity in (RESIDENCE_HOLDUP, SOLID_FRACTION, AXIAL_VELOCITY, SPEED))]
         if quantity == MASS_FLOW and not rows and not reasons:
             continue
         lines.append(f"{quantity} ({unit})" + (f", {summary.complete_records} complete records"

@@ -5,12 +5,12 @@ import shutil
 import numpy as np
 import pytest
 
-from make_fixture import FEED_KG_H, write_short_run
+from make_fixture import ELEMENT_VALUES, FEED_KG_H, write_short_run
 from tsg_analysis.model import Settings
 from tsg_analysis.report import build_report
 from tsg_analysis.run import Run
 from tsg_analysis.summary import (AXIAL_VELOCITY, MASS_FLOW, RESIDENCE_HOLDUP, RESIDENCE_RECORDS, SOLID_FRACTION,
-                                  compare_runs, summarise, summary_table, sweep_markdown, write_sweep_csv)
+                                  SPEED, compare_runs, summarise, summary_table, sweep_markdown, write_sweep_csv)
 
 
 @pytest.fixture(scope="module")
@@ -28,9 +28,11 @@ def test_summary_of_a_steady_run(periodic_run):
     kneading = summary.get(SOLID_FRACTION, "K1")
     assert kneading.mean == pytest.approx((19 * 0.15 + 81 * 0.3) / 100)
     assert kneading.detected_start == pytest.approx(1.2, abs=0.011)  # the step, found
+    assert summary.get(SPEED, "K1").mean == pytest.approx(ELEMENT_VALUES["kneading"][1])  # the fixture's |v|, constant
+    assert summary.get(SPEED, "C1").mean == pytest.approx(ELEMENT_VALUES["conveying"][1])
     assert summary.get(RESIDENCE_RECORDS, "total").resolved and summary.complete_records > 1000
     assert {r.quantity for r in summary.rows} == {MASS_FLOW, RESIDENCE_RECORDS, RESIDENCE_HOLDUP, SOLID_FRACTION,
-                                                  AXIAL_VELOCITY}
+                                                  AXIAL_VELOCITY, SPEED}
     assert summary.parameters.rpm == 600.0
     text = summary_table(Run(periodic_run[0]))
     assert "± " in text and "600 rpm" in text and "mass flow (kg/h)" in text
@@ -187,7 +189,7 @@ def test_report_summary_and_accuracy_give_the_same_number_for_one_window(periodi
     from_report = analysed.estimates()
     summary = summarise(Run(periodic_run[0]), start)
     key = Run(periodic_run[0]).key_estimates(start=start)
-    keys = [(MASS_FLOW, "domain flux Σ m v_x / L"), (SOLID_FRACTION, "K1"), (AXIAL_VELOCITY, "K1"),
+    keys = [(MASS_FLOW, "domain flux Σ m v_x / L"), (SOLID_FRACTION, "K1"), (AXIAL_VELOCITY, "K1"), (SPEED, "K1"),
             (RESIDENCE_RECORDS, "total")]
     for quantity, scope in keys:
         a, b, c = from_report[(quantity, scope)], summary.get(quantity, scope), key[(quantity, scope)]
