@@ -200,12 +200,15 @@ class Run:
     def element_keys(self, start: float | None = None, end: float | None = None,
                      labels: list[str | None] | None = None) -> dict[Key, Estimate]:
         """The element statistics' estimates by (quantity, scope): domain flux, hold-up residence
-        times, per-element solid fraction, axial velocity and speed (`labels`: each zone's scope,
+        times per element type and per element, per-element solid fraction, axial velocity and speed (`labels`: each zone's scope,
         None to leave it out; default the zones' own labels)."""
         averages = self.element_averages(start, end)
         names = list(self.zones.labels) if labels is None else labels
         found: dict[Key, Estimate] = {(MASS_FLOW, DOMAIN_FLUX): averages.throughput}
         found.update({(RESIDENCE_HOLDUP, kind): e for kind, e in averages.holdup_residence.items()})
+        # per element too: the residence-time panel of the paper's Fig. 9
+        found.update({(RESIDENCE_HOLDUP, label): e for label, e in zip(names, averages.element_holdup_residence)
+                      if label is not None})
         for quantity, name in ELEMENT_QUANTITIES:
             found.update({(quantity, label): e for label, e in zip(names, averages.by_zone[name]) if label is not None})
         return found

@@ -5,7 +5,7 @@ import shutil
 import numpy as np
 import pytest
 
-from make_fixture import ELEMENT_VALUES, FEED_KG_H, write_short_run
+from make_fixture import DENSITY, ELEMENT_VALUES, FEED_KG_H, FREE_AREA, LAYOUTS, write_short_run
 from tsg_analysis.model import Settings
 from tsg_analysis.report import build_report
 from tsg_analysis.run import Run
@@ -44,6 +44,13 @@ def test_summary_from_a_start_time_leaves_the_start_up_out(periodic_run):
     summary = summarise(Run(periodic_run[0]), 1.2)
     kneading = summary.get(SOLID_FRACTION, "K1")
     assert kneading.mean == pytest.approx(0.3) and kneading.samples == 80
+    # each element's residence time by Little's law, τ_e = m_e / Q with Q = Σ m v_x / L, from the
+    # fixture's constant masses and axial velocities (its elements.txt rounds to 6 digits)
+    lengths = [length * 1e-3 for _, length in LAYOUTS["periodic"]]
+    masses = [FREE_AREA * length * ELEMENT_VALUES[kind][0] * DENSITY for (kind, _), length in zip(LAYOUTS["periodic"], lengths)]
+    flux = sum(m * ELEMENT_VALUES[kind][2] for m, (kind, _) in zip(masses, LAYOUTS["periodic"])) / sum(lengths)
+    assert summary.get(RESIDENCE_HOLDUP, "K1").mean == pytest.approx(masses[1] / flux, rel=1e-4)
+    assert summary.get(RESIDENCE_HOLDUP, "C2").mean == pytest.approx(masses[-1] / flux, rel=1e-4)
     inlet = summary.get(MASS_FLOW, "sensor_1")
     assert inlet.chosen_start > 1.2 and abs(inlet.mean - FEED_KG_H) <= inlet.half_width
     assert summary.complete_records < summarise(Run(periodic_run[0])).complete_records
