@@ -118,6 +118,13 @@ class Run:
             raise AnalysisInputError(f"{path}: file not found (no log: the run has not been made)")
         return path.read_text(encoding="utf-8", errors="replace")
 
+    @property
+    def segment_logs(self) -> list[str]:
+        """The logs of a run made in segments (cases/slurm/segment.sh): each earlier segment's
+        log.upto-<step>.lammps in step order, then log.lammps."""
+        earlier = sorted(self.path.glob("log.upto-*.lammps"), key=lambda p: int(p.name.split("-")[1].split(".")[0]))
+        return [p.read_text(encoding="utf-8", errors="replace") for p in earlier] + [self.log]
+
     # ---- the time axis -------------------------------------------------------------------------
 
     @cached_property

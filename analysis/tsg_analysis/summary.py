@@ -82,12 +82,13 @@ def _start(value: float | None) -> str:
 
 def thermo_largest(run: Run, prefix: str) -> float | None:
     """The largest value of the log's thermo columns whose names start with `prefix`, over every
-    block; None without such a column (or without log.lammps)."""
+    block of every segment's log (Run.segment_logs); None without such a column (or without log.lammps)."""
     try:
-        log = run.log
+        logs = run.segment_logs
     except AnalysisInputError:
         return None
-    values = [v.max() for b in parse_thermo(log) for name, v in b.items() if name.startswith(prefix) and v.size]
+    values = [v.max() for log in logs for b in parse_thermo(log) for name, v in b.items()
+              if name.startswith(prefix) and v.size]
     return float(max(values)) if values else None
 
 

@@ -182,6 +182,14 @@ def test_contact_health_reads_the_guards_columns(tmp_path):
                                         "log.lammps names each)")
     (tmp_path / "log.lammps").write_text("LIGGGHTS\n" + crossing + "0 0 10 1.0 0.1 0 0\nLoop time of 1\n")
     assert contact_health(Run(tmp_path)).endswith("largest speed 1 m/s, 0 wall crossings")
+    # a run made in segments: the earlier segments' logs count too (the largest overlap was in one)
+    (tmp_path / "log.upto-500.lammps").write_text("LIGGGHTS\n" + crossing + "0 0 10 3.0 0.7 2 0\nLoop time of 1\n")
+    (tmp_path / "log.upto-50.lammps").write_text("LIGGGHTS\n" + crossing + "0 0 10 1.0 0.95 1 0\nLoop time of 1\n")
+    assert contact_health(Run(tmp_path)) == ("contacts over the run: 2 squeeze releases (particles faster than "
+                                        "guard_fast_speed, counted), largest wall overlap/R 0.95, largest speed 3 m/s, "
+                                        "0 wall crossings")
+    for earlier in tmp_path.glob("log.upto-*.lammps"):
+        earlier.unlink()
     (tmp_path / "log.lammps").write_text("LIGGGHTS\nStep Time Atoms\n0 0 10\nLoop time of 1\n")
     assert contact_health(Run(tmp_path)) is None
 
