@@ -22,10 +22,9 @@ from tsg_analysis.run_files import AnalysisInputError
 def particles_over_steps(run: Path) -> tuple[np.ndarray, np.ndarray]:
     """(step, atoms) of every thermo row of the run's logs, later segments winning where they overlap
     (the log's Time column restarts with each segment: the time comes from the mass-flow record's steps)."""
-    logs = sorted(run.glob("log.upto-*.lammps"), key=lambda p: int(p.stem.split("-")[1].split(".")[0]))
     rows: dict[int, float] = {}
-    for log in [*logs, run / "log.lammps"]:
-        for block in parse_thermo(log.read_text(errors="replace")):
+    for log in Run(run).segment_logs:
+        for block in parse_thermo(log):
             if "Atoms" in block:
                 rows.update({int(s): float(a) for s, a in zip(block["Step"], block["Atoms"])})
     steps = np.array(sorted(rows))
