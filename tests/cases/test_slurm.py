@@ -243,3 +243,46 @@ def test_a_prepared_run_is_prepared_once_and_continued_with_its_variables(tmp_pa
     for step in single:
         np.testing.assert_allclose(merged[step], single[step], rtol=1e-9, atol=1e-15, err_msg=f"step {step}")
 
+
+
+def thermo_row(step: int) -> str:
+    """A thermo row as newest-restart.sh reads it (step, time, then at least eight more columns)."""
+    return f"  {step}  {step * DT!r}  40" + "  0" * 8 + "\n"
+
+
+def test_restart_files_older_than_the_newest_complete_ones_are_removed(tmp_path):
+    """prune-restarts.sh keeps the newest KEEP complete restart files (a later thermo row exists) and
+    every newer one (being written), removes the older ones and says which; KEEP 0 keeps all."""
+    out = tmp_path / "out"
+    out.mkdir()
+    for step in (200, 400, 600, 800, 1000):
+        (out / f"restart.{step}").write_text("x")
+    (out / "restart.notes").write_text("not a restart file")
+    (out / "log.lammps").write_text("".join(thermo_row(s) for s in range(0, 901, 100)))   # 1000: not complete
+    prune = SEGMENT.parent / "prune-restarts.sh"
+    kept_all = subprocess.run([str(prune), str(out), "0"], capture_output=True, text=True, timeout=60)
+    assert kept_all.returncode == 0 and len(list(out.glob("restart.*"))) == 6, kept_all
+    proc = subprocess.run([str(prune), str(out), "2"], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    assert sorted(p.name for p in out.glob("restart.*")) == ["restart.1000", "restart.600", "restart.800", "restart.notes"]
+    assert sorted(re.findall(r"removed \S+/restart\.(\d+)", proc.stdout)) == ["200", "400"], proc.stdout
+
+
+def test_a_segment_removes_restart_files_before_and_after_lmp(tmp_path):
+    """segment.sh prunes (TSG_KEEP_RESTARTS, default 2) when it continues and when lmp ends before the
+    run is done: an lmp stand-in writes two restart files and their thermo rows and stops."""
+    out = tmp_path / "out"
+    out.mkdir()
+    for step in (200, 400, 600):
+        (out / f"restart.{step}").write_text("x")
+    (out / "log.lammps").write_text("".join(thermo_row(s) for s in range(0, 701, 100)))
+    stand_in = tmp_path / "lmp"
+    stand_in.write_text("#!/bin/sh\n: > log.lammps\nfor s in 800 1000; do touch restart.$s; "
+                        f"printf '  %s  0.1  40  0 0 0 0 0 0 0 0\\n' $s $((s + 100)) >> log.lammps; done\n")
+    stand_in.chmod(0o755)
+    env = dict(environment(tmp_path, out, 701, 100 * DT), TSG_LMP=str(stand_in))
+    proc = subprocess.run([str(SEGMENT), "periodic", "JOB_SCRIPT"], env=env, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0 and "continuing from restart.600" in proc.stdout, proc.stdout
+    assert sorted(re.findall(r"removed \S+/restart\.(\d+)", proc.stdout), key=int) == ["200", "400", "600"], proc.stdout
+    assert sorted(p.name for p in out.glob("restart.*")) == ["restart.1000", "restart.800"]
+    assert "successor continues" in proc.stdout and not (out / "FAILED").exists()

@@ -83,4 +83,11 @@ CASES: list[BadInput] = [
              files={"run/lmp.vars": "t_sample 0.2\n", "run/prepared-with": "--scale demo --seed 1\n"},
              command=[*SEGMENT, "TSG_PREPARE=--scale demo --seed 2", "{root}/cases/slurm/segment.sh", "periodic", "JOB"],
              intact=("run/lmp.vars", "run/prepared-with")),
+    BadInput("tools.segment.keep-restarts", ('TSG_KEEP_RESTARTS = "two" is not allowed', "a whole number", "0 keeps all"),
+             why="a misspelt count would otherwise be found only after the segment, with restart files at stake",
+             command=[*SEGMENT, "TSG_KEEP_RESTARTS=two", "{root}/cases/slurm/segment.sh", "periodic", "JOB"]),
+    BadInput("tools.prune-restarts.keep", ('KEEP = "-1" is not allowed', "a whole number"),
+             why="a negative count of restart files to keep",
+             files={"run/restart.200": "x", "run/log.lammps": "   400 0.1 1 2 3 4 5 6 7 8\n"},
+             command=["{root}/cases/slurm/prune-restarts.sh", "{tmp}/run", "-1"], intact=("run/restart.200",)),
 ]
