@@ -44,6 +44,7 @@ from pathlib import Path
 
 from tsg_analysis.liggghts_log import parse_thermo
 from tsg_cases import states
+from tsg_cases.prepared import domain_length
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
@@ -166,7 +167,9 @@ def prepare(work: Path, lmp: str, scale: str = "paper") -> dict[str, object]:
     mesh_dir = Path(re.search(r"mesh_dir=(\S+)", log).group(1))
     if not mesh_dir.is_dir():  # prepared in another checkout: the same meshes of this one
         mesh_dir = ROOT / "build" / "meshes" / mesh_dir.name
-    return {"mesh_dir": mesh_dir, "zones_file": prepared / "zones.txt",
+    # the run's own domain length (the meshes' zones.txt, as tsg-run-case passes it): the mass-flow
+    # sensors a restart file holds are at its planes
+    return {"mesh_dir": mesh_dir, "zones_file": prepared / "zones.txt", "domain_length": repr(domain_length(mesh_dir)),
             "fill_file": prepared / "fill.in", "scale": scale, **SCALE_VARIABLES[scale],
             "d_min_value": fill_d_min(fill, prepared / "fill.in"),
             "dt": float(re.search(r"time step (\S+) s", log).group(1))}
@@ -184,7 +187,8 @@ def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: i
     thermo_every = max(thermo_every, 1000)   # the case runs in chunks of thermo_every steps, each with a set-up
     variables = {"case_dir": CASES, "out_dir": run_dir, "restart_file": restart, "t_startup": startup_steps * dt,
                  "t_sample": 1e-12, "thermo_every": thermo_every, "stats_every": thermo_every, **guards(case),
-                 **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file")}, **SCALE_VARIABLES[str(case["scale"])]}
+                 **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file", "domain_length")},
+                 **SCALE_VARIABLES[str(case["scale"])]}
     print(f"[restart] {startup_steps} steps ({1e3 * startup_steps * dt:.1f} ms) from the fill, 2 ranks ...", flush=True)
     lmp_run(mpi(lmp, 2) + ["-in", "in.restart", "-log", "log.lammps", "-echo", "none"], run_dir, variables)
     return restart
@@ -261,10 +265,10 @@ def bench(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, ob
     (workdir / "in.bench").write_text(BENCH_INPUT)
     variables = {"case_dir": CASES, "out_dir": workdir, "restart_file": restart, "bench_steps": steps,
                  "thermo_every": thermo_every, "stats_every": thermo_every, "skin": 0.2 * float(case["d_mean"]),
-                 "procs_x": "*", "gravity": 9.81, "x_lo": 0.0, "domain_length": 0.0958333333333, "buffer": 0.00625, "rpm": 600,
+                 "procs_x": "*", "gravity": 9.81, "x_lo": 0.0, "buffer": 0.00625, "rpm": 600,
                  "screw_drive": "corotating", "screw_direction": 1, "cohesion": 0, "dump_every": 0, "max_escaped": 0,
                  **guards(case), **SCALE_VARIABLES[str(case["scale"])],
-                 **{k: case[k] for k in ("mesh_dir", "zones_file", "d_min_value")}, **(extra or {})}
+                 **{k: case[k] for k in ("mesh_dir", "zones_file", "d_min_value", "domain_length")}, **(extra or {})}
     command = (wrapper or []) + mpi(lmp, np_ranks) + ["-in", "in.bench", "-log", "log.lammps", "-echo", "none"]
     log = lmp_run(command, workdir, variables)
     return parse(label, np_ranks, log, float(case["dt"])), log

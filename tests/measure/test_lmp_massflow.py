@@ -1,11 +1,12 @@
 """fix massflow/planes: signed mass flow rates in kg/h over a window, periodic crossings, open
 domain, the file and the thermo vector; and why stock fix massflow/mesh is not used for this."""
 import math
+import re
 
 import numpy as np
 import pytest
 
-from measure_cases import BASE, DENSITY, Mover, lanes, plane_stl, variables
+from measure_cases import BASE, DENSITY, RESTART_BASE, Mover, lanes, plane_stl, variables
 from tsg_harness import run_lmp
 
 DT = 1e-4
@@ -115,3 +116,31 @@ run 5000
     assert n == pytest.approx(round(n), abs=1e-9) and round(n) == 4, n
     print(f"[ measured ] oscillating particle: massflow/planes net {thermo['mf[1]'][-1]} kg/h; "
           f"massflow/mesh 'count multiple' {counted:.4g} kg = {n:.0f} particle masses")
+
+
+def test_a_restart_continues_at_planes_equal_within_a_nanometre(tmp_path):
+    """A domain length written with 11 or 13 digits (zones.txt against in.tsg_periodic's default) moves
+    a plane by ~1e-13 m: the same sensors, continued, and the second window's rate is exact. A plane
+    moved by 2 nm is another sensor: refused, with the shift named (the positions print alike)."""
+    grid = lanes(3)
+    plan = [(0.011, 1, 5e-4), (0.037, 2, 5e-4), (0.064, -1, 3e-4)]
+    movers = [Mover(x0, k * LENGTH / T_WINDOW, *grid[j]) for j, (x0, k, _) in enumerate(plan)]
+    first = movers_input(movers, [r for *_, r in plan], "fix mf all massflow/planes planes 2 0.0 0.0958333333333 "
+                         "window 5000 file flow.txt", WINDOW, "f_mf[1]") + "write_restart state.restart\n"
+    run_lmp(first, tmp_path, variables=variables(True), files={}).assert_clean()
+    expected = sum(k * mass(r) for _, k, r in plan) / T_WINDOW * 3600
+
+    def second(plane: float, expect_error: bool):
+        text = (RESTART_BASE + "fix integr all nve/sphere\n"
+                f"fix mf all massflow/planes planes 2 0.0 {plane!r} window 5000 file flow.txt\n"
+                f"timestep {DT}\nthermo_style custom step f_mf[1] f_mf[2]\nthermo_modify format float %.15g\n"
+                f"thermo {WINDOW}\nrun {WINDOW}\n")
+        return run_lmp(text, tmp_path, variables=variables(True), expect_error=expect_error)
+
+    continued = second(0.095833333333, expect_error=False)
+    continued.assert_clean()
+    np.testing.assert_allclose(continued.thermo[-1]["mf[2]"][-1], expected, rtol=1e-12)
+    moved = second(0.0958333353333, expect_error=True)
+    message = moved.stdout + moved.log
+    shift = re.search(r"this fix has planes 2 0 0\.09583333533 \(moved by up to (\S+) m; allowed: 1e-09 m\)", message)
+    assert shift and float(shift.group(1)) == pytest.approx(2e-9, rel=1e-6), message[-2000:]
