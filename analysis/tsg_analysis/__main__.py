@@ -211,6 +211,26 @@ def _systematics(args: argparse.Namespace) -> int:
     return 0
 
 
+def _merge_elements(args: argparse.Namespace) -> int:
+    from .run_files import element_segment_files, merged_element_text
+
+    if not args.run_dir.is_dir():
+        raise UsageError(f"run_dir {args.run_dir}: no such directory")
+    segments = element_segment_files(args.run_dir)
+    earlier = [p for p in segments if p.name != "elements.txt"]
+    if not earlier:
+        print(f"{args.run_dir}: one segment, elements.txt left as it is")
+        return 0
+    text, _ = merged_element_text(segments)
+    merged = args.run_dir / "elements.merged"
+    merged.write_text(text)
+    merged.replace(args.run_dir / "elements.txt")
+    for path in earlier:
+        path.unlink()
+    print(f"{args.run_dir}/elements.txt: {len(segments)} segments merged")
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     main_parser = _Parser(prog="python -m tsg_analysis", description="Post-analysis of TSG-DEM runs.")
     main_parser.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
@@ -263,6 +283,14 @@ def parser() -> argparse.ArgumentParser:
                               "independent samples of the hold-up follow")
     domains.add_argument("--periodic-start", default="auto", help="steady start of the periodic runs, s, or auto")
     domains.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
+    merge = commands.add_parser(
+        "merge-elements", help="a stopped or finished segmented run's element statistics in one elements.txt",
+        description="Writes the run's elements.upto-*.txt and elements.txt (cases/slurm/segment.sh) as one "
+                    "elements.txt, each sampled step once (the later segment's rows win), and removes the "
+                    "elements.upto-*.txt. Only for a run no segment is writing: the other commands read the "
+                    "segments as they are.")
+    merge.add_argument("run_dir", type=Path)
+    merge.add_argument("--debug", action="store_true", help=argparse.SUPPRESS)
     systematics = commands.add_parser("systematics", help="add an accuracy study's measured errors to the registry "
                                       "that the summary and the report quote (tsg_analysis/systematics.json)")
     systematics.add_argument("action", choices=("add",))
@@ -280,7 +308,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = parser().parse_args(argv)
         return {"report": _report, "summary": _summary, "compare": _compare, "domains": _domains,
-                "systematics": _systematics}[args.command](args)
+                "systematics": _systematics, "merge-elements": _merge_elements}[args.command](args)
     except UsageError as err:
         if debug:
             raise

@@ -88,7 +88,8 @@ class Run:
 
     @cached_property
     def elements(self) -> ElementStatistics:
-        return read_element_statistics(self.path / "elements.txt")
+        """elements.txt, with the earlier segments' elements.upto-*.txt of a run made in segments."""
+        return read_element_statistics(self.path)
 
     @cached_property
     def massflow(self) -> MassFlowRecord:

@@ -304,9 +304,62 @@ def read_squeezes(path: Path | str) -> SqueezeRecords:
     return SqueezeRecords({name: table[:, k] for k, name in enumerate(SQUEEZE_COLUMNS)}, names, tuple(issues))
 
 
+def element_segment_files(run_dir: Path | str) -> list[Path]:
+    """A run's element statistics files in segment order: each earlier segment's
+    elements.upto-<step>.txt (cases/slurm/segment.sh keeps them; LIGGGHTS would overwrite them) by
+    step, then elements.txt if it exists."""
+    run_dir = Path(run_dir)
+    earlier = sorted(run_dir.glob("elements.upto-*.txt"), key=lambda p: int(p.name.split("-")[1].split(".")[0]))
+    current = run_dir / "elements.txt"
+    return earlier + ([current] if current.is_file() else [])
+
+
+def merged_element_text(paths: list[Path]) -> tuple[str, list[str]]:
+    """The element statistics of a run's segments as one text, each sampled step once: a continued
+    segment starts from a restart file older than the step its predecessor reached, so the later
+    segment's blocks win (as in the mass-flow and residence records, whose fixes drop what was written
+    after the restart file): each file keeps its blocks before the first step of the next file that
+    has blocks; the last keeps all. The first file's header. Reads only (a running segment's file is
+    never replaced); also the issues of each file (a cut last line)."""
+    if not paths:
+        raise AnalysisInputError("no element statistics files (elements.txt or elements.upto-*.txt)")
+    parts: list[tuple[list[str], list[tuple[int, list[str]]]]] = []   # (header, blocks) of each file
+    issues: list[str] = []
+    for path in paths:
+        text, cut = _read_complete_lines(path)
+        issues += cut
+        header: list[str] = []
+        blocks: list[tuple[int, list[str]]] = []
+        for number, line in enumerate(text.splitlines(), start=1):
+            words = line.split()
+            if line.startswith("#") and not blocks:
+                header.append(line)
+            elif len(words) == 2 and all(_is_number(w) for w in words):
+                blocks.append((int(float(words[0])), [line]))
+            elif words and blocks:
+                blocks[-1][1].append(line)
+            elif words:
+                raise AnalysisInputError(f"{path}: line {number}: expected a block header '<timestep> <rows>', "
+                                         f"got {line.strip()!r}")
+        parts.append((header, blocks))
+    firsts = [blocks[0][0] if blocks else None for _, blocks in parts]
+    kept: list[str] = list(parts[0][0])
+    for k, (_, blocks) in enumerate(parts):
+        limit = next((f for f in firsts[k + 1:] if f is not None), None)
+        kept += [line for step, lines in blocks if limit is None or step < limit for line in lines]
+    return "\n".join(kept) + "\n", issues
+
+
 def read_element_statistics(path: Path | str) -> ElementStatistics:
+    """elements.txt, or, for a run directory, its segments merged (merged_element_text)."""
     path = Path(path)
-    text, issues = _read_complete_lines(path)
+    segments = element_segment_files(path) if path.is_dir() else []
+    if len(segments) > 1:
+        text, issues = merged_element_text(segments)
+        path = path / "elements.upto-*.txt and elements.txt"   # the name in messages
+    else:
+        path = path / "elements.txt" if path.is_dir() else path
+        text, issues = _read_complete_lines(path)
     header = _header(text)
     if len(header) < 3 or not header[2].startswith("# Row"):
         raise AnalysisInputError(f"{path}: expected the three '# ...' header lines of fix ave/time mode vector")

@@ -47,3 +47,26 @@ def test_a_run_in_one_piece_is_left_as_it_is(tmp_path):
     (tmp_path / "elements.txt").write_text(text)
     subprocess.run([str(MERGE), str(tmp_path)], check=True)
     assert (tmp_path / "elements.txt").read_text() == text
+
+
+def test_the_analysis_reads_a_going_run_as_the_merge_writes_it_and_changes_nothing(tmp_path):
+    """A chain that is still going: its segments are read as they are (the running segment's
+    elements.txt with a cut last line), equal to what the merge writes once it has stopped, and no
+    file is replaced (a running lmp would go on writing to a file no longer in the folder)."""
+    from tsg_analysis.run_files import read_element_statistics
+
+    def full(steps: range, value: float) -> str:   # the five columns of the element statistics
+        return (HEADER.replace("c_elements[2]", "c_elements[2] c_elements[3] c_elements[4] c_elements[5]")
+                + "".join(f"{step} 2\n1 {value} 0.5 0.1 3 0.001\n2 {value} 0.25 0.1 3 0.001\n" for step in steps))
+
+    (tmp_path / "elements.upto-700.txt").write_text(full(range(100, 701, 100), 1.0))
+    (tmp_path / "elements.upto-1300.txt").write_text(full(range(500, 1301, 100), 2.0))
+    (tmp_path / "elements.txt").write_text(full(range(1200, 1601, 100), 3.0) + "1700 2\n1 3.0")
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    going = read_element_statistics(tmp_path)
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+    assert any("last line is incomplete" in issue for issue in going.issues), going.issues
+    subprocess.run([str(MERGE), str(tmp_path)], check=True)
+    merged = read_element_statistics(tmp_path / "elements.txt")
+    assert list(going.timesteps) == list(merged.timesteps) == list(range(100, 1601, 100))
+    assert [row[0][0] for row in going.values] == [v for _, v in blocks(tmp_path / "elements.txt")]
