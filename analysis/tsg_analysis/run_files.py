@@ -354,7 +354,7 @@ def read_element_statistics(path: Path | str) -> ElementStatistics:
     """elements.txt, or, for a run directory, its segments merged (merged_element_text)."""
     path = Path(path)
     segments = element_segment_files(path) if path.is_dir() else []
-    if len(segments) > 1:
+    if any(segment.name != "elements.txt" for segment in segments):   # made in segments
         text, issues = merged_element_text(segments)
         path = path / "elements.upto-*.txt and elements.txt"   # the name in messages
     else:

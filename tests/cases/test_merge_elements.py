@@ -70,3 +70,7 @@ def test_the_analysis_reads_a_going_run_as_the_merge_writes_it_and_changes_nothi
     merged = read_element_statistics(tmp_path / "elements.txt")
     assert list(going.timesteps) == list(merged.timesteps) == list(range(100, 1601, 100))
     assert [row[0][0] for row in going.values] == [v for _, v in blocks(tmp_path / "elements.txt")]
+
+    # a new segment killed before it wrote elements.txt: the earlier segments are the record
+    (tmp_path / "elements.txt").rename(tmp_path / "elements.upto-1700.txt")
+    assert list(read_element_statistics(tmp_path).timesteps) == list(range(100, 1601, 100))
