@@ -44,6 +44,8 @@ from typing import TYPE_CHECKING
 
 from tsg_cases.case_parameters import ParameterError, check_names, check_values, defined_variables
 
+ROOT = Path(__file__).resolve().parents[1]
+
 if TYPE_CHECKING:
     from tsg_analysis.run import Run
 
@@ -111,13 +113,13 @@ def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str], replic
         (run_dir / "sweep.json").write_text(json.dumps({"case": "periodic", "scale": scale, "vars": merged,
                                                         "seed": seed}, indent=1))
         python = shlex.quote(sys.executable)
-        runner = "-m tsg_cases.run_case" + (f" --seed {seed}" if seed is not None else "")
+        seeding = f" --seed {seed}" if seed is not None else ""
         options = " ".join(f"-v {shlex.quote(k)} {shlex.quote(v)}" for k, v in merged.items())
-        (run_dir / "run.sh").write_text(
+        (run_dir / "run.sh").write_text(segmented_run_script(python, seeding, options, ranks) if scale == "paper" else
             "#!/usr/bin/env bash\n# One run of the sweep; its state goes to RUNNING / DONE / FAILED here.\n"
             'here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"\n'
             'rm -f "$here/DONE" "$here/FAILED"; echo $$ > "$here/RUNNING"\n'
-            f'{python} {runner} periodic --scale {scale} --np "${{TSG_NP:-{ranks}}}" --out "$here" {options}'
+            f'{python} -m tsg_cases.run_case{seeding} periodic --scale {scale} --np "${{TSG_NP:-{ranks}}}" --out "$here" {options}'
             ' 2>&1 | tee "$here/run.out"\nstatus=${PIPESTATUS[0]}\nrm -f "$here/RUNNING"\n'
             'if [ $status -eq 0 ]; then touch "$here/DONE"; else echo $status > "$here/FAILED"; fi\nexit $status\n')
         (run_dir / "run.sh").chmod(0o755)
@@ -129,18 +131,44 @@ def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str], replic
         f"#SBATCH --job-name=tsg-sweep\n#SBATCH --array=0-{len(every) - 1}\n#SBATCH --ntasks={ranks}\n"
         "#SBATCH --time=24:00:00\n#SBATCH --output=%x-%a.out\n"
         "# One array task per line of runs.txt; finished runs (DONE) are skipped, so resubmitting resumes.\n"
-        'sweep="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"\n'
+        "# A paper-scale run is a chain: its task submits the next job of its own index (segment.sh).\n"
+        "# The sweep's folder as written (SLURM runs a copy of this script elsewhere; TSG_SWEEP overrides it).\n"
+        f'sweep="${{TSG_SWEEP:-{sweep.resolve()}}}"\n'
         'name=$(sed -n "$((SLURM_ARRAY_TASK_ID + 1))p" "$sweep/runs.txt")\n'
         '[ -f "$sweep/$name/DONE" ] && exit 0\n'
-        'TSG_NP=$SLURM_NTASKS exec "$sweep/$name/run.sh"\n')
+        'TSG_NP=$SLURM_NTASKS TSG_JOB_SCRIPT="$sweep/sweep.slurm" exec "$sweep/$name/run.sh"\n')
     return [sweep / n for n in names]
+
+
+def segmented_run_script(python: str, seeding: str, options: str, ranks: int) -> str:
+    """run.sh of a paper-scale run (9-16 core-hours per simulated second): a segment of a job chain
+    (cases/slurm/segment.sh: prepared once, restart files every 20 000 steps, continued from the newest
+    one when started again, locally by `tsg-sweep run` or as the next job of its array index), so that
+    no run is lost to a time limit or an interruption. DONE and FAILED (the error line) come from
+    segment.sh; a segment that ended before the run did leaves neither, and the next one continues."""
+    return (
+        "#!/usr/bin/env bash\n"
+        "# One paper-scale run of the sweep, in segments (cases/slurm/segment.sh; docs/cluster.md): started\n"
+        "# again, it continues from its newest restart file. Its state: RUNNING / DONE / FAILED here.\n"
+        'here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"\n'
+        f'np="${{TSG_NP:-{ranks}}}"\n'
+        'launch=""\n'
+        'if [ -n "${SLURM_JOB_ID:-}" ]; then launch="srun"; elif [ "$np" -gt 1 ]; then launch="mpirun -np $np --oversubscribe"; fi\n'
+        'echo $$ > "$here/RUNNING"\n'
+        f'TSG_OUT="$here" TSG_LAUNCH="${{TSG_LAUNCH-$launch}}" SLURM_NTASKS="$np" \\\n'
+        f'  TSG_RUN_CASE="${{TSG_RUN_CASE:-{python} -m tsg_cases.run_case}}" \\\n'
+        f'  TSG_PREPARE="--scale paper{seeding} {options}" \\\n'
+        f'  {shlex.quote(str(ROOT / "cases" / "slurm" / "segment.sh"))} periodic "${{TSG_JOB_SCRIPT:-/dev/null}}" \\\n'
+        '  2>&1 | tee -a "$here/run.out"\n'
+        'status=${PIPESTATUS[0]}\nrm -f "$here/RUNNING"\nexit $status\n')
 
 
 def state(run_dir: Path) -> str:
     if (run_dir / "DONE").exists():
         return "done"
     if (run_dir / "FAILED").exists():
-        return f"failed (exit {(run_dir / 'FAILED').read_text().strip()})"
+        why = (run_dir / "FAILED").read_text().strip()   # run.sh: the exit status; segment.sh: the error line
+        return f"failed ({'exit ' if why.isdigit() else ''}{why})"
     if (run_dir / "RUNNING").exists():
         pid = (run_dir / "RUNNING").read_text().strip()
         alive = pid.isdigit() and Path(f"/proc/{pid}").exists()
@@ -224,8 +252,11 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
             continue
         print(f"{name}: running", flush=True)
         status = subprocess.run([str(run_dir / "run.sh")], env=dict(os.environ)).returncode
-        print(f"{name}: {'done' if status == 0 else f'failed (exit {status}), see run.out'}")
-        failures += status != 0
+        now = state(run_dir)
+        if status == 0 and now == "pending":   # a paper-scale segment stopped before the run's end
+            now = "stopped before its end: tsg-sweep run continues it from its newest restart file"
+        print(f"{name}: {now}{'' if now == 'done' else ', see run.out'}")
+        failures += now != "done"
     return 1 if failures else 0
 
 def window_start(text: str | None) -> float | str | None:

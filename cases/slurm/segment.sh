@@ -4,9 +4,9 @@
 #   segment.sh CASE JOB_SCRIPT
 #
 # 1. If ${out}/DONE exists, the run is finished: exit. If ${out}/FAILED exists, stop the chain.
-# 2. Submit the successor first (sbatch --dependency=afterany:$SLURM_JOB_ID JOB_SCRIPT): it starts
-#    when this segment ends, however it ends (also killed at the time limit), so the chain needs no
-#    signal handling.
+# 2. Submit the successor first (sbatch --dependency=afterany:$SLURM_JOB_ID JOB_SCRIPT; a task of a job
+#    array with --array=$SLURM_ARRAY_TASK_ID): it starts when this segment ends, however it ends (also
+#    killed at the time limit), so the chain needs no signal handling.
 # 3. Continue from the newest complete restart file (one whose step the log shows a later thermo row
 #    for; a file being written when the job was killed is skipped), or start from the beginning (the
 #    periodic case's fill, the full case's empty barrel). The measurement fixes drop the records
@@ -53,7 +53,10 @@ if [ -f "$out/FAILED" ]; then say "$out failed before: $(cat "$out/FAILED"); rem
 [ -x "$lmp" ] || { say "lmp not found: $lmp (./tsg setup builds it; or set TSG_LMP)"; exit 2; }
 
 if [ -n "${SLURM_JOB_ID:-}" ]; then
-  successor=$("${TSG_SBATCH:-sbatch}" --parsable --dependency="afterany:$SLURM_JOB_ID" "$job_script")
+  # a task of a job array (tsg-sweep's paper-scale runs) continues as the same index
+  array=()
+  [ -n "${SLURM_ARRAY_TASK_ID:-}" ] && array=(--array="$SLURM_ARRAY_TASK_ID")
+  successor=$("${TSG_SBATCH:-sbatch}" --parsable ${array[@]+"${array[@]}"} --dependency="afterany:$SLURM_JOB_ID" "$job_script")
   say "successor submitted: job ${successor%%;*}"
 fi
 

@@ -67,3 +67,39 @@ def test_write_adds_seeds_to_a_sweep_and_refuses_to_rewrite_a_run_with_other_set
     unseeded = subprocess.run(SWEEP + ["write", str(tmp_path), *common, "--only", "reference"], capture_output=True, text=True)
     assert unseeded.returncode == 2 and "already holds reference with fill seeds" in unseeded.stderr
     assert (tmp_path / "runs.txt").read_text().split() == names
+
+
+def test_a_paper_scale_run_is_a_chain_of_segments(tmp_path):
+    """A paper-scale run (9-16 core-hours per simulated second) runs as cases/slurm/segment.sh
+    segments: prepared once with the sweep's options, continued from its restart files, and on a
+    cluster each array task submits the next job of its own index. Stand-ins for tsg-run-case, lmp
+    and sbatch: the first segment ends before the run does, the second finishes it."""
+    sweep = tmp_path / "sweep"
+    subprocess.run(SWEEP + ["write", str(sweep), "--scale", "paper", "--np", "1", "--only", "reference",
+                            "static-friction-0.1"], check=True, capture_output=True)
+    run_dir = sweep / "static-friction-0.1"
+    prepare = tmp_path / "run_case"
+    prepare.write_text('#!/bin/sh\necho "$@" > "$TSG_OUT/prepared-args"\necho "t_sample 1.0" > "$TSG_OUT/lmp.vars"\n')
+    lmp = tmp_path / "lmp"   # the first segment stops at step 100, the second writes TSG-DONE
+    lmp.write_text("#!/bin/sh\nif [ -f ../ran-once ]; then echo TSG-DONE > log.lammps; "
+                   "else touch ../ran-once; echo '  100 0.1 40 0 0 0 0 0 0 0 0' > log.lammps; fi\n")
+    stub = tmp_path / "sbatch"
+    stub.write_text(f'#!/bin/sh\necho "$@" >> {tmp_path}/sbatch.log\necho 77\n')
+    for script in (prepare, lmp, stub):
+        script.chmod(0o755)
+    env = dict(os.environ, TSG_RUN_CASE=str(prepare), TSG_LMP=str(lmp), TSG_SBATCH=str(stub), TSG_LAUNCH="",
+               SLURM_JOB_ID="76", SLURM_ARRAY_TASK_ID="1", TSG_JOB_SCRIPT=str(sweep / "sweep.slurm"))
+    first = subprocess.run([str(run_dir / "run.sh")], env=env, capture_output=True, text=True, timeout=120)
+    assert first.returncode == 0 and "segment ended before the run did" in first.stdout, first.stdout
+    assert (run_dir / "prepared-args").read_text().split() == ["periodic", "--scale", "paper", "-v", "mus_pp", "0.1",
+                                                               "-v", "mus_pg", "0.1", "--out", str(run_dir),
+                                                               "--prepare-only"]
+    assert (tmp_path / "sbatch.log").read_text().split() == [
+        "--parsable", "--array=1", "--dependency=afterany:76", str(sweep / "sweep.slurm")]
+    assert not (run_dir / "DONE").exists() and not (run_dir / "RUNNING").exists()
+    local = subprocess.run(SWEEP + ["run", str(sweep), "--only", "static-friction-0.1"], capture_output=True, text=True,
+                           env={k: v for k, v in env.items() if not k.startswith("SLURM")}, timeout=120)
+    assert local.returncode == 0 and "static-friction-0.1: done" in local.stdout, local.stdout + local.stderr
+    assert (run_dir / "run.out").read_text().count("preparing: tsg-run-case periodic --scale paper") == 1   # once
+    assert (run_dir / "DONE").exists()
+    assert f'sweep="${{TSG_SWEEP:-{sweep.resolve()}}}"' in (sweep / "sweep.slurm").read_text()
