@@ -45,6 +45,7 @@ from .run_files import (
     ResidenceRecords,
     SqueezeRecords,
     Zones,
+    earlier_segment_files,
     read_element_statistics,
     read_massflow,
     read_residence,
@@ -123,7 +124,7 @@ class Run:
     def segment_logs(self) -> list[str]:
         """The logs of a run made in segments (cases/slurm/segment.sh): each earlier segment's
         log.upto-<step>.lammps in step order, then log.lammps."""
-        earlier = sorted(self.path.glob("log.upto-*.lammps"), key=lambda p: int(p.name.split("-")[1].split(".")[0]))
+        earlier = earlier_segment_files(self.path, "log", ".lammps")
         return [p.read_text(encoding="utf-8", errors="replace") for p in earlier] + [self.log]
 
     # ---- the time axis -------------------------------------------------------------------------

@@ -304,14 +304,18 @@ def read_squeezes(path: Path | str) -> SqueezeRecords:
     return SqueezeRecords({name: table[:, k] for k, name in enumerate(SQUEEZE_COLUMNS)}, names, tuple(issues))
 
 
+def earlier_segment_files(run_dir: Path | str, name: str, suffix: str) -> list[Path]:
+    """The files NAME.upto-<step>SUFFIX in which cases/slurm/segment.sh keeps each earlier segment's
+    output (LIGGGHTS would overwrite it), in step order."""
+    prefix = f"{name}.upto-"
+    return sorted(Path(run_dir).glob(f"{prefix}*{suffix}"), key=lambda p: int(p.name[len(prefix):-len(suffix)]))
+
+
 def element_segment_files(run_dir: Path | str) -> list[Path]:
-    """A run's element statistics files in segment order: each earlier segment's
-    elements.upto-<step>.txt (cases/slurm/segment.sh keeps them; LIGGGHTS would overwrite them) by
-    step, then elements.txt if it exists."""
-    run_dir = Path(run_dir)
-    earlier = sorted(run_dir.glob("elements.upto-*.txt"), key=lambda p: int(p.name.split("-")[1].split(".")[0]))
-    current = run_dir / "elements.txt"
-    return earlier + ([current] if current.is_file() else [])
+    """A run's element statistics files in segment order: the earlier segments' elements.upto-<step>.txt,
+    then elements.txt if it exists."""
+    current = Path(run_dir) / "elements.txt"
+    return earlier_segment_files(run_dir, "elements", ".txt") + ([current] if current.is_file() else [])
 
 
 def merged_element_text(paths: list[Path]) -> tuple[str, list[str]]:

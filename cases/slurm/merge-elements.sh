@@ -13,4 +13,4 @@
 set -euo pipefail
 out="${1:?usage: merge-elements.sh RUN_DIR}"
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-exec "${TSG_ANALYSIS:-$repo/.venv/bin/tsg-analysis}" merge-elements "$out" > /dev/null
+exec "$repo/.venv/bin/tsg-analysis" merge-elements "$out" > /dev/null
