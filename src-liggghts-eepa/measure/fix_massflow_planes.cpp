@@ -253,7 +253,8 @@ void FixMassflowPlanes::restart(char *buf)
   // a plane by 1e-13 m; no particle crosses that sliver unnoticed in a step of 1e-7 m)
   constexpr double kSamePlane = 1e-9;
   double shift = 0.0;
-  for (size_t k = 0; k < std::min(n, planes_.size()); ++k) shift = std::max(shift, std::fabs(planes_[k] - positions[k]));
+  for (size_t k = 0; k < std::min(n, planes_.size()); ++k)
+    shift = std::max(shift, std::fabs(planes_[k] - positions[k]));
   if (n != planes_.size() || shift > kSamePlane)
     fail(lmp, who_,
          "the restart file was written with planes " + std::to_string(n) + " " + stored + ", this fix has planes " +
