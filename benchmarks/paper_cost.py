@@ -15,7 +15,8 @@ side by side in one invocation.
 3. Each lmp (baseline, this build; alternated, --repeat times, for each --np) reads the restart and
    runs --steps steps of the case as it is: cases/include models, corotating screws and fixed
    barrel, guards (fix check/contact), measurement fixes (element statistics, mass flow,
-   residence time), thermo every --thermo-every steps.
+   residence time), thermo every --thermo-every steps, with the variables of the prepared run (its
+   lmp.vars: the values it ran with) over the defaults of cases/in.tsg_periodic.
 Printed per run: LIGGGHTS' loop time, its breakdown (pair, neighbour lists, comm, output, fixes),
 the corotating fix's own contact time, particle-steps per second per core and core-hours per
 simulated second; then the ratio baseline / this build. With --callgrind-steps N it also counts
@@ -45,27 +46,23 @@ from pathlib import Path
 from tsg_analysis.liggghts_log import parse_thermo
 from tsg_cases import states
 from tsg_cases.prepared import domain_length
+from tsg_cases.run_case import SCALES, UserError, read_lmp_vars
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
-# The variables of each scale that the benchmark input needs (cases/run_case.py SCALES: the values a
-# run of that scale gets), and the start-up before the restart in motion (steps from the fill).
-SCALE_VARIABLES: dict[str, dict[str, object]] = {
-    "paper": {"d_mean": 0.0004, "dt_fraction": 0.1},
-    "demo": {"d_mean": 0.001, "dt_fraction": 0.2, "mus_pg": 0.1, "guard_max_wall_overlap": 1.0,
-             "guard_max_pair_overlap": 1.5, "guard_max_speed": 500},
-}
+# The start-up before the restart in motion (steps from the fill).
 DEFAULT_STARTUP_STEPS = {"paper": 6000, "demo": 4000}
 DEMO_STATE = CASES / "states" / "periodic-demo" / "seed-1"   # the demo's default start: steady, t = 1.5 s
 # The guards stay on (their per-step cost is part of the case) but out of reach: the static paper
 # fill trips max_speed within a few steps (a particle touching a screw at phase 0; docs/stability.md).
-# The demo scale keeps its own guards (runaway-only, cases/run_case.py).
+# The demo scale keeps the case's guards.
 RELAXED_GUARDS = {"guard_max_speed": 1e9, "guard_max_pair_overlap": 1e9, "guard_max_wall_overlap": 1e9}
 
 BENCH_INPUT = """# benchmarks/paper_cost.py: the paper-scale periodic case continued from a restart taken in motion
 # (the lines of cases/in.tsg_periodic after the fill, with read_restart in place of domain.in + fill)
 processors ${procs_x} 1 1
 read_restart ${restart_file}
+${case_defaults}
 include ${mesh_dir}/machine.in
 newton off
 communicate single vel yes
@@ -155,8 +152,25 @@ def lmp_run(command: list[str], workdir: Path, variables: dict[str, object]) -> 
     return log
 
 
+def case_defaults() -> str:
+    """The `variable NAME index DEFAULT` lines of cases/in.tsg_periodic, for the benchmark input: the
+    case's own defaults of every variable that the prepared run and the benchmark do not set (a value
+    given with -var wins over an index line, as it does in the case)."""
+    return "\n".join(line for line in (CASES / "in.tsg_periodic").read_text().splitlines()
+                     if re.match(r"\s*variable\s+\w+\s+index\s", line))
+
+
+# Variables of a prepared run that belong to its own run directory and schedule, not to the physics
+# or the measurements that the benchmark times: the benchmark sets its own.
+RUN_OWN = {"case_dir", "out_dir", "fill_file", "start", "restart_file", "t_startup", "t_sample", "write_state",
+           "restart_every", "thermo_every", "stats_every", "dump_every", "dump_from", "snapshot", "procs_x",
+           "mesh_dir", "zones_file", "domain_length"}
+
+
 def prepare(work: Path, lmp: str, scale: str = "paper") -> dict[str, object]:
-    """Meshes, zones and fill of the scale (run_case.py with no steps); the case variables."""
+    """Meshes, zones and fill of the scale (run_case.py with no steps); the case variables: the
+    prepared run's lmp.vars (the values it ran with; `--work DIR` with DIR/prepared a link to a run
+    directory times that run's settings), less those of RUN_OWN."""
     prepared = work / ("prepared" if scale == "paper" else f"prepared-{scale}")
     if not (prepared / "fill.in").exists():
         subprocess.run([sys.executable, str(CASES / "run_case.py"), "periodic", "--scale", scale, "--out", str(prepared),
@@ -164,13 +178,18 @@ def prepare(work: Path, lmp: str, scale: str = "paper") -> dict[str, object]:
                        env=dict(os.environ, TSG_LMP=lmp))
     log = (prepared / "log.lammps").read_text(errors="replace")
     fill = (prepared / "fill.in").read_text()
+    try:
+        run_variables = {k: v for k, v in read_lmp_vars(prepared).items() if k not in RUN_OWN}
+    except UserError as error:
+        raise SystemExit(f"paper_cost.py: {error}") from None
     mesh_dir = Path(re.search(r"mesh_dir=(\S+)", log).group(1))
     if not mesh_dir.is_dir():  # prepared in another checkout: the same meshes of this one
         mesh_dir = ROOT / "build" / "meshes" / mesh_dir.name
     # the run's own domain length (the meshes' zones.txt, as tsg-run-case passes it): the mass-flow
     # sensors a restart file holds are at its planes
     return {"mesh_dir": mesh_dir, "zones_file": prepared / "zones.txt", "domain_length": repr(domain_length(mesh_dir)),
-            "fill_file": prepared / "fill.in", "scale": scale, **SCALE_VARIABLES[scale],
+            "fill_file": prepared / "fill.in", "scale": scale,
+            "run_variables": run_variables,
             "d_min_value": fill_d_min(fill, prepared / "fill.in"),
             "dt": float(re.search(r"time step (\S+) s", log).group(1))}
 
@@ -188,7 +207,7 @@ def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: i
     variables = {"case_dir": CASES, "out_dir": run_dir, "restart_file": restart, "t_startup": startup_steps * dt,
                  "t_sample": 1e-12, "thermo_every": thermo_every, "stats_every": thermo_every, **guards(case),
                  **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file", "domain_length")},
-                 **SCALE_VARIABLES[str(case["scale"])]}
+                 **case["run_variables"]}
     print(f"[restart] {startup_steps} steps ({1e3 * startup_steps * dt:.1f} ms) from the fill, 2 ranks ...", flush=True)
     lmp_run(mpi(lmp, 2) + ["-in", "in.restart", "-log", "log.lammps", "-echo", "none"], run_dir, variables)
     return restart
@@ -262,12 +281,11 @@ def parse(label: str, np_ranks: int, log: str, dt: float) -> Result:
 def bench(label: str, lmp: str, np_ranks: int, restart: Path, case: dict[str, object], steps: int, thermo_every: int,
           workdir: Path, wrapper: list[str] | None = None, extra: dict[str, str] | None = None) -> tuple[Result, str]:
     workdir.mkdir(parents=True, exist_ok=True)
-    (workdir / "in.bench").write_text(BENCH_INPUT)
-    variables = {"case_dir": CASES, "out_dir": workdir, "restart_file": restart, "bench_steps": steps,
-                 "thermo_every": thermo_every, "stats_every": thermo_every, "skin": 0.2 * float(case["d_mean"]),
-                 "procs_x": "*", "gravity": 9.81, "x_lo": 0.0, "buffer": 0.00625, "rpm": 600,
-                 "screw_drive": "corotating", "screw_direction": 1, "cohesion": 0, "dump_every": 0, "max_escaped": 0,
-                 **guards(case), **SCALE_VARIABLES[str(case["scale"])],
+    (workdir / "in.bench").write_text(BENCH_INPUT.replace("${case_defaults}", case_defaults()))
+    variables = {**case["run_variables"],
+                 "case_dir": CASES, "out_dir": workdir, "restart_file": restart, "bench_steps": steps,
+                 "thermo_every": thermo_every, "stats_every": thermo_every, "procs_x": "*", "dump_every": 0,
+                 **guards(case),
                  **{k: case[k] for k in ("mesh_dir", "zones_file", "d_min_value", "domain_length")}, **(extra or {})}
     command = (wrapper or []) + mpi(lmp, np_ranks) + ["-in", "in.bench", "-log", "log.lammps", "-echo", "none"]
     log = lmp_run(command, workdir, variables)
@@ -325,7 +343,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--np", type=int, nargs="+", default=[1, 2], help="MPI ranks (each measured)")
     parser.add_argument("--steps", type=int, default=400)
     parser.add_argument("--repeat", type=int, default=1)
-    parser.add_argument("--scale", choices=sorted(SCALE_VARIABLES), default="paper",
+    parser.add_argument("--scale", choices=sorted(SCALES), default="paper",
                         help="the periodic case at the paper's 400 um or the demo's 1 mm (cases/run_case.py --scale)")
     parser.add_argument("--startup-steps", type=int, default=None,
                         help=f"steps from the fill before the restart (default {DEFAULT_STARTUP_STEPS}; the demo scale "

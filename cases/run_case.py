@@ -101,6 +101,20 @@ def build_meshes(config: str, tolerance: float, clearance: tuple[float | None, f
     return out
 
 
+def read_lmp_vars(run_dir: Path) -> dict[str, str]:
+    """The variables a prepared run passes to lmp: its lmp.vars (written by `run`), NAME -> VALUE."""
+    path = run_dir / "lmp.vars"
+    if not path.is_file():
+        raise UserError(f"{path}: no such file (a run directory prepared by tsg-run-case has one)")
+    variables = {}
+    for number, line in enumerate(path.read_text().splitlines(), 1):
+        name, _, value = line.partition(" ")
+        if not name or not value:
+            raise UserError(f"{path}:{number}: {line!r} is not allowed: one 'NAME VALUE' per line")
+        variables[name] = value
+    return variables
+
+
 def git_commit() -> str | None:
     try:
         proc = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True, text=True)

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tsg_analysis.liggghts_log import parse_thermo
+from tsg_analysis.run_files import log_segment_files
 
 STATE_RESTART = "state.restart"  # the file `-v write_state 1` writes in the run directory
 # variables that choose the contact model and the wall fix: a restart file keeps their per-contact
@@ -106,7 +107,7 @@ def _restart_row(run_dir: Path, t_startup: float) -> tuple[int, float]:
 
 def _row_at_step(run_dir: Path, step: int) -> float:
     """The time of the thermo row at `step` in the run's logs (a kept run's segments: log.upto-*.lammps)."""
-    for log in sorted(run_dir.glob("log*.lammps")):
+    for log in log_segment_files(run_dir):
         for block in parse_thermo(log.read_text(errors="replace")):
             for row_step, time in zip(block["Step"], block["Time"]):
                 if int(row_step) == step:

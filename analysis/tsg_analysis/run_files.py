@@ -311,6 +311,13 @@ def earlier_segment_files(run_dir: Path | str, name: str, suffix: str) -> list[P
     return sorted(Path(run_dir).glob(f"{prefix}*{suffix}"), key=lambda p: int(p.name[len(prefix):-len(suffix)]))
 
 
+def log_segment_files(run_dir: Path | str) -> list[Path]:
+    """A run's LIGGGHTS logs in segment order: the earlier segments' log.upto-<step>.lammps, then
+    log.lammps if it exists."""
+    current = Path(run_dir) / "log.lammps"
+    return earlier_segment_files(run_dir, "log", ".lammps") + ([current] if current.is_file() else [])
+
+
 def element_segment_files(run_dir: Path | str) -> list[Path]:
     """A run's element statistics files in segment order: the earlier segments' elements.upto-<step>.txt,
     then elements.txt if it exists."""
