@@ -34,7 +34,7 @@ ROOT = paper_cost.ROOT
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--lmp", default=os.environ.get("TSG_LMP", str(ROOT / "build" / "lmp")))
-    parser.add_argument("--scales", nargs="+", choices=sorted(paper_cost.SCALE_VARIABLES), default=["demo", "paper"])
+    parser.add_argument("--scales", nargs="+", choices=sorted(paper_cost.SCALES), default=["demo", "paper"])
     parser.add_argument("--np", type=int, nargs="+", default=[1, 2, 4, 8, 16])
     parser.add_argument("--steps", type=int, nargs="+", default=[1000, 300], help="steps per run, one per scale")
     parser.add_argument("--repeat", type=int, default=3)
