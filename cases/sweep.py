@@ -19,7 +19,8 @@ to it (runs.txt keeps the runs it lists): e.g. a fourth seed for a setting whose
 written with. --only writes a part of the matrix (e.g. no 200 um run at demo scale). Each
 run directory
 holds `sweep.json` (what the sweep sets), `run.sh` (the local command) and, once run, the case outputs and a state
-marker: RUNNING (with the process id), DONE or FAILED (with the exit status). `report` compares each
+marker: RUNNING (process id, host and SLURM job id), DONE or FAILED (with the exit status). A run that is
+running (here, or on another host: a cluster node, which this host cannot check) is skipped by `run`. `report` compares each
 setting's finished runs with the reference's (tsg_analysis.summary.compare_runs: replicas combined,
 difference ± 95 % interval, significant or not) and sets the seed paper's directions and mass flows
 beside ours (tsg_analysis.validation); it writes comparison.md/.csv, directions.md, splits.md (where the sweep holds
@@ -37,12 +38,16 @@ import json
 import math
 import os
 import shlex
+import socket
 import subprocess
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from tsg_cases.case_parameters import ParameterError, check_names, check_values, defined_variables
+
+# The RUNNING marker: the run script's process id, its host and SLURM job id (empty outside SLURM).
+RUNNING_MARK = 'echo "$$ $(hostname) ${SLURM_JOB_ID:-}" > "$here/RUNNING"'
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -118,7 +123,7 @@ def write(sweep: Path, scale: str, ranks: int, overrides: dict[str, str], replic
         (run_dir / "run.sh").write_text(segmented_run_script(python, seeding, options, ranks) if scale == "paper" else
             "#!/usr/bin/env bash\n# One run of the sweep; its state goes to RUNNING / DONE / FAILED here.\n"
             'here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"\n'
-            'rm -f "$here/DONE" "$here/FAILED"; echo $$ > "$here/RUNNING"\n'
+            f'rm -f "$here/DONE" "$here/FAILED"; {RUNNING_MARK}\n'
             f'{python} -m tsg_cases.run_case{seeding} periodic --scale {scale} --np "${{TSG_NP:-{ranks}}}" --out "$here" {options}'
             ' 2>&1 | tee "$here/run.out"\nstatus=${PIPESTATUS[0]}\nrm -f "$here/RUNNING"\n'
             'if [ $status -eq 0 ]; then touch "$here/DONE"; else echo $status > "$here/FAILED"; fi\nexit $status\n')
@@ -154,7 +159,7 @@ def segmented_run_script(python: str, seeding: str, options: str, ranks: int) ->
         f'np="${{TSG_NP:-{ranks}}}"\n'
         'launch=""\n'
         'if [ -n "${SLURM_JOB_ID:-}" ]; then launch="srun"; elif [ "$np" -gt 1 ]; then launch="mpirun -np $np --oversubscribe"; fi\n'
-        'echo $$ > "$here/RUNNING"\n'
+        f'{RUNNING_MARK}\n'
         f'TSG_OUT="$here" TSG_LAUNCH="${{TSG_LAUNCH-$launch}}" SLURM_NTASKS="$np" \\\n'
         f'  TSG_RUN_CASE="${{TSG_RUN_CASE:-{python} -m tsg_cases.run_case}}" \\\n'
         f'  TSG_PREPARE="--scale paper{seeding} {options}" \\\n'
@@ -164,13 +169,17 @@ def segmented_run_script(python: str, seeding: str, options: str, ranks: int) ->
 
 
 def state(run_dir: Path) -> str:
+    """done, failed (why), running (alive on this host, or on another host: not checked from here),
+    interrupted (its process on this host is gone) or pending."""
     if (run_dir / "DONE").exists():
         return "done"
     if (run_dir / "FAILED").exists():
         why = (run_dir / "FAILED").read_text().strip()   # run.sh: the exit status; segment.sh: the error line
         return f"failed ({'exit ' if why.isdigit() else ''}{why})"
     if (run_dir / "RUNNING").exists():
-        pid = (run_dir / "RUNNING").read_text().strip()
+        pid, host, job = ((run_dir / "RUNNING").read_text().split() + ["", "", ""])[:3]
+        if host and host != socket.gethostname():   # e.g. a cluster node, seen from the login node
+            return f"running on {host}{f' (job {job})' if job else ''}: not checked from this host"
         alive = pid.isdigit() and Path(f"/proc/{pid}").exists()
         return "running" if alive else "interrupted"
     return "pending"
@@ -247,8 +256,9 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     for name, run_dir in dirs.items():
         if args.only is not None and name not in wanted and name.split("/")[0] not in wanted:
             continue
-        if state(run_dir) == "done":
-            print(f"{name}: done, skipped")
+        before = state(run_dir)
+        if before == "done" or before.startswith("running"):   # never two processes in one run directory
+            print(f"{name}: {before}, skipped")
             continue
         print(f"{name}: running", flush=True)
         status = subprocess.run([str(run_dir / "run.sh")], env=dict(os.environ)).returncode

@@ -2,6 +2,7 @@
 reports their state."""
 import json
 import os
+import socket
 import subprocess
 import sys
 from pathlib import Path
@@ -35,13 +36,22 @@ def test_run_is_resumable_and_status_reports_states(tmp_path):
                             "-v", "t_startup", "1e-5", "-v", "t_sample", "1e-5"], check=True, capture_output=True)
     (tmp_path / "restitution-0.9" / "FAILED").write_text("1\n")
     (tmp_path / "psd-sigma-0.2" / "RUNNING").write_text("999999999\n")     # a process that is gone
+    # alive here (this test's own process), and on a cluster node that this host cannot check
+    (tmp_path / "restitution-0.1" / "RUNNING").write_text(f"{os.getpid()} {socket.gethostname()} \n")
+    (tmp_path / "cohesion-high" / "RUNNING").write_text("4242 node17 8811\n")
+    busy = subprocess.run(SWEEP + ["run", str(tmp_path), "--only", "restitution-0.1", "cohesion-high"],
+                          capture_output=True, text=True)
+    assert busy.returncode == 0, busy.stdout + busy.stderr
+    assert "restitution-0.1: running, skipped" in busy.stdout
+    assert "cohesion-high: running on node17 (job 8811): not checked from this host, skipped" in busy.stdout
+    assert not (tmp_path / "restitution-0.1" / "log.lammps").exists()
     first = subprocess.run(SWEEP + ["run", str(tmp_path), "--only", "reference"], capture_output=True, text=True)
     assert first.returncode == 0, first.stdout + first.stderr
     assert (tmp_path / "reference" / "DONE").exists() and (tmp_path / "reference" / "log.lammps").exists()
     again = subprocess.run(SWEEP + ["run", str(tmp_path), "--only", "reference"], capture_output=True, text=True)
     assert "reference: done, skipped" in again.stdout
     status = subprocess.run(SWEEP + ["status", str(tmp_path)], capture_output=True, text=True, check=True).stdout
-    assert "done 1  running 0  failed 1  pending 9  interrupted 1" in status
+    assert "done 1  running 2  failed 1  pending 7  interrupted 1" in status
     bad = subprocess.run(SWEEP + ["run", str(tmp_path), "--only", "nonsense"], capture_output=True, text=True)
     assert bad.returncode == 2 and "no run named nonsense" in bad.stderr
 
