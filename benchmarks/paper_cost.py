@@ -63,6 +63,7 @@ BENCH_INPUT = """# benchmarks/paper_cost.py: the paper-scale periodic case conti
 processors ${procs_x} 1 1
 read_restart ${restart_file}
 ${case_defaults}
+include ${case_dir}/include/balance.in
 include ${mesh_dir}/machine.in
 newton off
 communicate single vel yes
