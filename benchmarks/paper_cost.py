@@ -205,10 +205,10 @@ def make_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: i
     (run_dir / "in.restart").write_text(RESTART_INPUT)
     dt = float(case["dt"])
     thermo_every = max(thermo_every, 1000)   # the case runs in chunks of thermo_every steps, each with a set-up
-    variables = {"case_dir": CASES, "out_dir": run_dir, "restart_file": restart, "t_startup": startup_steps * dt,
+    variables = {**case["run_variables"],   # the benchmark's own values below win, as in bench()
+                 "case_dir": CASES, "out_dir": run_dir, "restart_file": restart, "t_startup": startup_steps * dt,
                  "t_sample": 1e-12, "thermo_every": thermo_every, "stats_every": thermo_every, **guards(case),
-                 **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file", "domain_length")},
-                 **case["run_variables"]}
+                 **{k: case[k] for k in ("mesh_dir", "zones_file", "fill_file", "domain_length")}}
     print(f"[restart] {startup_steps} steps ({1e3 * startup_steps * dt:.1f} ms) from the fill, 2 ranks ...", flush=True)
     lmp_run(mpi(lmp, 2) + ["-in", "in.restart", "-log", "log.lammps", "-echo", "none"], run_dir, variables)
     return restart
