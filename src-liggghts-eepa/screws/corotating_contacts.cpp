@@ -37,7 +37,7 @@ void FixWallGranCorotating::corotating_contacts()
     screw.angle = screw.motion.angle(time);
     poses[s] = rot::rotation_matrix(screw.motion.axis, screw.angle);
   }
-  if (reindex_lists_ || static_cast<int>(candidates_.size()) != nlocal) {
+  if (reindex_lists_ || static_cast<int>(candidate_spans_.size()) != nlocal) {
     follow_lists_to_new_indices(poses);
     reindex_lists_ = false;
   }
@@ -72,7 +72,10 @@ void FixWallGranCorotating::corotating_contacts()
     signed char current_image[3] = {0, 0, 0};
     rot::Vec3 lab{0, 0, 0};
     double centre[3] = {0, 0, 0};
-    for (const Candidate &cand : candidates_[i]) {
+    const CandidateSpan span = candidate_spans_[i];
+    const Candidate *const first = candidate_pool_.data() + span.begin;
+    for (const Candidate *it = first; it != first + span.count; ++it) {
+      const Candidate &cand = *it;
       Screw &s = screws_[cand.screw];
       // three comparisons, not std::equal: on chars it becomes a memcmp call (4 % of a step, perf)
       if (cand.screw != current_screw || cand.image[0] != current_image[0] || cand.image[1] != current_image[1] ||

@@ -126,7 +126,9 @@ void FixWallGranCorotating::follow_lists_to_new_indices(const std::vector<rot::M
   std::unordered_map<tagint, size_t> old_index;
   old_index.reserve(list_owner_.size());
   for (size_t k = 0; k < list_owner_.size(); ++k) old_index.emplace(list_owner_[k], k);
-  std::vector<std::vector<Candidate>> lists(nlocal);
+  std::vector<Candidate> pool;
+  pool.reserve(candidate_pool_.size());
+  std::vector<CandidateSpan> spans(nlocal);
   std::vector<double> built(static_cast<size_t>(nlocal) * stride, 0.0);
   std::vector<tagint> owner(nlocal);
   std::vector<bool> fresh(nlocal, true);
@@ -134,11 +136,14 @@ void FixWallGranCorotating::follow_lists_to_new_indices(const std::vector<rot::M
     owner[i] = atom->tag[i];
     const auto found = old_index.find(atom->tag[i]);
     if (found == old_index.end()) continue;
-    lists[i] = std::move(candidates_[found->second]);
+    const CandidateSpan old = candidate_spans_[found->second];
+    spans[i] = {pool.size(), old.count, old.count};
+    pool.insert(pool.end(), candidate_pool_.begin() + old.begin, candidate_pool_.begin() + old.begin + old.count);
     std::copy(&built_at_[found->second * stride], &built_at_[(found->second + 1) * stride], &built[i * stride]);
     fresh[i] = false;
   }
-  candidates_ = std::move(lists);
+  candidate_pool_ = std::move(pool);
+  candidate_spans_ = std::move(spans);
   built_at_ = std::move(built);
   list_owner_ = std::move(owner);
   for (int i = 0; i < nlocal; ++i)
@@ -192,7 +197,7 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
     }
     nimage *= 2;
   }
-  std::vector<Candidate> &list = candidates_[i];
+  std::vector<Candidate> &list = candidate_scratch_;
   list.clear();
   ++list_builds_;
   double *built = &built_at_[static_cast<size_t>(i) * built_stride()];
@@ -245,4 +250,13 @@ void FixWallGranCorotating::build_candidates(int i, const std::vector<rot::Mat3>
     if (a.triangle != b.triangle) return a.triangle < b.triangle;
     return std::lexicographical_compare(a.image, a.image + 3, b.image, b.image + 3);
   });
+  CandidateSpan &span = candidate_spans_[i];
+  if (list.size() > span.capacity) {  // no room in its place: to the pool's end
+    span.begin = candidate_pool_.size();
+    span.capacity = static_cast<unsigned>(list.size());
+    candidate_pool_.insert(candidate_pool_.end(), list.begin(), list.end());
+  } else {
+    std::copy(list.begin(), list.end(), candidate_pool_.begin() + span.begin);
+  }
+  span.count = static_cast<unsigned>(list.size());
 }

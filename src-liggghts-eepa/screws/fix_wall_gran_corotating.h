@@ -154,8 +154,16 @@ private:
   std::vector<Screw> screws_;
   // candidate lists per owned particle, valid until the particle has moved beyond its margin from
   // where its list was built (lab frame or a screw's frame; build_candidates says how far); they
-  // follow their particle to its new local index after re-neighbouring
-  std::vector<std::vector<Candidate>> candidates_;
+  // follow their particle to its new local index after re-neighbouring. All lists share one pool,
+  // laid out in particle order at each re-neighbouring so that the step reads it in sequence; a list
+  // rebuilt longer than its place between re-neighbourings goes to the pool's end.
+  struct CandidateSpan {
+    size_t begin = 0;
+    unsigned count = 0, capacity = 0;
+  };
+  std::vector<Candidate> candidate_pool_;
+  std::vector<CandidateSpan> candidate_spans_;
+  std::vector<Candidate> candidate_scratch_;  // the list being built
   // per particle: lab position and squared margin, then body position and squared margin per screw
   std::vector<double> built_at_;
   size_t built_stride() const { return 4 + 4 * screws_.size(); }
