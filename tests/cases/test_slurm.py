@@ -13,6 +13,9 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pytest
+
+from tsg_cases.run_case import UserError, read_lmp_vars
 
 ROOT = Path(os.environ.get("TSG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 BUILD = Path(os.environ.get("TSG_BUILD_DIR", ROOT / "build"))
@@ -217,7 +220,7 @@ def test_a_prepared_run_is_prepared_once_and_continued_with_its_variables(tmp_pa
     reached = kill_after_restart(env_for(out, 501, 0.05), "periodic", out, 200)
     first = (tmp_path / "screen-501.txt").read_text()
     assert "preparing: tsg-run-case periodic --scale demo" in first and "variables of" in first, first[-3000:]
-    prepared = dict(line.split(" ", 1) for line in (out / "lmp.vars").read_text().splitlines())
+    prepared = read_lmp_vars(out)
     assert prepared["mesh_dir"].endswith("consigma1-periodic-4um-c1.4-2.8mm-g1.4mm"), prepared
     assert prepared["t_sample"] == "0.2" and prepared["fill_file"] == str(out / "fill.in")
     count = int(re.search(r"variable fill_count equal (\d+)", (out / "fill.in").read_text()).group(1))
@@ -278,7 +281,7 @@ def test_a_segment_removes_restart_files_before_and_after_lmp(tmp_path):
     (out / "log.lammps").write_text("".join(thermo_row(s) for s in range(0, 701, 100)))
     stand_in = tmp_path / "lmp"
     stand_in.write_text("#!/bin/sh\n: > log.lammps\nfor s in 800 1000; do touch restart.$s; "
-                        f"printf '  %s  0.1  40  0 0 0 0 0 0 0 0\\n' $s $((s + 100)) >> log.lammps; done\n")
+                        "printf '  %s  0.1  40  0 0 0 0 0 0 0 0\\n' $s $((s + 100)) >> log.lammps; done\n")
     stand_in.chmod(0o755)
     env = dict(environment(tmp_path, out, 701, 100 * DT), TSG_LMP=str(stand_in))
     proc = subprocess.run([str(SEGMENT), "periodic", "JOB_SCRIPT"], env=env, capture_output=True, text=True, timeout=60)
@@ -286,3 +289,15 @@ def test_a_segment_removes_restart_files_before_and_after_lmp(tmp_path):
     assert sorted(re.findall(r"removed \S+/restart\.(\d+)", proc.stdout), key=int) == ["200", "400", "600"], proc.stdout
     assert sorted(p.name for p in out.glob("restart.*")) == ["restart.1000", "restart.800"]
     assert "successor continues" in proc.stdout and not (out / "FAILED").exists()
+
+
+def test_lmp_vars_are_read_as_written_and_a_bad_line_is_named(tmp_path):
+    """run_case.read_lmp_vars, the one reader of a prepared run's lmp.vars (segment.sh passes the same
+    lines to lmp; benchmarks/paper_cost.py times a run with them)."""
+    (tmp_path / "lmp.vars").write_text("d_mean 0.0004\nout_dir /a b/c\n")
+    assert read_lmp_vars(tmp_path) == {"d_mean": "0.0004", "out_dir": "/a b/c"}
+    (tmp_path / "lmp.vars").write_text("d_mean 0.0004\nrpm\n")
+    with pytest.raises(UserError, match=r"lmp.vars:2: 'rpm' is not allowed: one 'NAME VALUE' per line"):
+        read_lmp_vars(tmp_path)
+    with pytest.raises(UserError, match="no such file"):
+        read_lmp_vars(tmp_path / "elsewhere")
