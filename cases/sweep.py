@@ -258,7 +258,8 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
             continue
         before = state(run_dir)
         if before == "done" or before.startswith("running"):   # never two processes in one run directory
-            print(f"{name}: {before}, skipped")
+            gone = "" if before in ("done", "running") else f" (if no job runs it any more, delete {run_dir / 'RUNNING'})"
+            print(f"{name}: {before}, skipped{gone}")
             continue
         print(f"{name}: running", flush=True)
         status = subprocess.run([str(run_dir / "run.sh")], env=dict(os.environ)).returncode

@@ -43,7 +43,8 @@ def test_run_is_resumable_and_status_reports_states(tmp_path):
                           capture_output=True, text=True)
     assert busy.returncode == 0, busy.stdout + busy.stderr
     assert "restitution-0.1: running, skipped" in busy.stdout
-    assert "cohesion-high: running on node17 (job 8811): not checked from this host, skipped" in busy.stdout
+    assert ("cohesion-high: running on node17 (job 8811): not checked from this host, skipped (if no job runs it "
+            f"any more, delete {tmp_path / 'cohesion-high' / 'RUNNING'})") in busy.stdout
     assert not (tmp_path / "restitution-0.1" / "log.lammps").exists()
     first = subprocess.run(SWEEP + ["run", str(tmp_path), "--only", "reference"], capture_output=True, text=True)
     assert first.returncode == 0, first.stdout + first.stderr
