@@ -45,6 +45,7 @@ from pathlib import Path
 
 from tsg_analysis.liggghts_log import parse_thermo
 from tsg_cases import states
+from tsg_cases.case_parameters import case_input, index_lines
 from tsg_cases.prepared import domain_length
 from tsg_cases.run_case import SCALES, UserError, read_lmp_vars
 
@@ -157,8 +158,7 @@ def case_defaults() -> str:
     """The `variable NAME index DEFAULT` lines of cases/in.tsg_periodic, for the benchmark input: the
     case's own defaults of every variable that the prepared run and the benchmark do not set (a value
     given with -var wins over an index line, as it does in the case)."""
-    return "\n".join(line for line in (CASES / "in.tsg_periodic").read_text().splitlines()
-                     if re.match(r"\s*variable\s+\w+\s+index\s", line))
+    return "\n".join(index_lines(case_input("periodic")))
 
 
 # Variables of a prepared run that belong to its own run directory and schedule, not to the physics

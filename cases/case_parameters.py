@@ -73,6 +73,12 @@ def input_files(case: str) -> list[Path]:
     return seen
 
 
+def index_lines(path: Path) -> list[str]:
+    """The `variable NAME index DEFAULT` declarations of one input file, as written (comments dropped):
+    for an input that declares the case's defaults itself (benchmarks/paper_cost.py)."""
+    return [match.group(0).strip() for match in _INDEX.finditer(path.read_text())]
+
+
 def defined_variables(case: str) -> dict[str, str]:
     """name -> default text of every `variable ... index` line the case reads."""
     defaults: dict[str, str] = {}
