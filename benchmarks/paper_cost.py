@@ -2,16 +2,17 @@
 side by side in one invocation.
 
     .venv/bin/python benchmarks/paper_cost.py --baseline-lmp /work/lmp-main/lmp [--np 1 2] [--steps 400]
-        [--repeat 1] [--startup-steps 10000] [--work DIR] [--callgrind-steps 0]
+        [--repeat 1] [--startup-steps N] [--restart FILE] [--work DIR] [--callgrind-steps 0]
 
 1. Prepare (once per --work directory): cases/run_case.py periodic --scale paper with no steps:
-   the 1 um meshes, the zones and the static fill (63 320 particles of 400 um, 2.7 g; the figures in
-   docs/measured/paper_cost.json were taken at the earlier 2.3 g, 53 940 particles).
-2. Motion restart (once per --work directory, this build): the case runs --startup-steps from the
-   fill (screws turning, particles falling onto them and dragged along) and writes a restart file
-   (tens of MB: kept out of git, made here). The demo scale instead starts, unless --startup-steps
-   or --restart is given, from its kept steady state (cases/states/periodic-demo/seed-1, t = 1.5 s
-   after the fill): a cost measured in motion, not in the first milliseconds after the fill.
+   the 1 um meshes, the zones and the static fill (63 320 particles of 400 um, 2.7 g).
+2. Motion restart (once per --work directory, this build): the case runs from the fill for 0.1 s of
+   simulated time (--startup-steps to choose; screws turning, particles dragged along and squeezed:
+   a state in motion, about 200 000 steps, about an hour on 2 cores) and writes a restart file
+   (tens of MB: kept out of git, made here); --restart takes a later one (e.g. a kept run's). The
+   demo scale instead starts, unless --startup-steps or --restart is given, from its kept steady
+   state (cases/states/periodic-demo/seed-1, t = 1.5 s after the fill): a cost measured in motion,
+   not in the first milliseconds after the fill.
 3. Each lmp (baseline, this build; alternated, --repeat times, for each --np) reads the restart and
    runs --steps steps of the case as it is: cases/include models, corotating screws and fixed
    barrel, guards (fix check/contact), measurement fixes (element statistics, mass flow,
@@ -30,6 +31,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import platform
 import re
@@ -51,8 +53,9 @@ from tsg_cases.run_case import SCALES, UserError, read_lmp_vars
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ROOT / "cases"
-# The start-up before the restart in motion (steps from the fill).
-DEFAULT_STARTUP_STEPS = {"paper": 6000, "demo": 4000}
+# The start-up before the restart in motion at the paper scale: 0.1 s of simulated time from the fill
+# (issue: a cost in motion, the screws engaged; the first milliseconds after the fill cost a third).
+PAPER_STARTUP_S = 0.1
 DEMO_STATE = CASES / "states" / "periodic-demo" / "seed-1"   # the demo's default start: steady, t = 1.5 s
 # The guards stay on (their per-step cost is part of the case) but out of reach: the static paper
 # fill trips max_speed within a few steps (a particle touching a screw at phase 0; docs/stability.md).
@@ -237,6 +240,15 @@ def demo_state_restart(work: Path, case: dict[str, object]) -> Path:
     return restart
 
 
+def motion_restart(work: Path, lmp: str, case: dict[str, object], startup_steps: int | None, thermo_every: int) -> Path:
+    """The state a benchmark starts from: at the demo scale its kept steady state, at the paper scale
+    the case run PAPER_STARTUP_S from the fill; --startup-steps given: that many steps from the fill."""
+    if case["scale"] == "demo" and startup_steps is None:
+        return demo_state_restart(work, case)
+    steps = startup_steps or math.ceil(PAPER_STARTUP_S / float(case["dt"]))
+    return make_restart(work, lmp, case, steps, thermo_every)
+
+
 def restart_without_time(restart: Path, work: Path) -> Path:
     """A copy of the restart file without the simulation-time entry of its header (the flag that
     src-liggghts-eepa/patches/write-restart-cpp.patch adds after YZ, with its double), which an lmp
@@ -347,8 +359,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--scale", choices=sorted(SCALES), default="paper",
                         help="the periodic case at the paper's 400 um or the demo's 1 mm (cases/run_case.py --scale)")
     parser.add_argument("--startup-steps", type=int, default=None,
-                        help=f"steps from the fill before the restart (default {DEFAULT_STARTUP_STEPS}; the demo scale "
-                             f"starts from its kept steady state unless this is given)")
+                        help=f"steps from the fill before the restart (default at the paper scale: {PAPER_STARTUP_S} s "
+                             f"of simulated time; the demo scale starts from its kept steady state unless this is given)")
     parser.add_argument("--restart", type=Path, default=None,
                         help="a restart in motion to use instead of making one (written without the measurement fixes)")
     parser.add_argument("--restart-without-time", action="store_true",
@@ -371,7 +383,6 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--collect", action="store_true",
                         help="run nothing: read the runs an earlier invocation with the same options left in --work")
     args = parser.parse_args(argv)
-    startup_steps = args.startup_steps or DEFAULT_STARTUP_STEPS[args.scale]
     if args.steps % args.thermo_every:  # the guards' fix is computed every thermo_every steps; thermo prints the last step
         parser.error(f"--steps {args.steps} is not allowed: a multiple of --thermo-every {args.thermo_every}")
     work = args.work or Path(tempfile.mkdtemp(prefix="paper_cost_"))
@@ -380,10 +391,7 @@ def main(argv: list[str] | None = None) -> int:
     machine_at_start = machine()
     print(f"machine: {machine_at_start}", flush=True)
     case = prepare(work, args.lmp, args.scale)
-    if args.restart is None and args.scale == "demo" and args.startup_steps is None:
-        restart = demo_state_restart(work, case)
-    else:
-        restart = args.restart or make_restart(work, args.lmp, case, startup_steps, args.thermo_every)
+    restart = args.restart or motion_restart(work, args.lmp, case, args.startup_steps, args.thermo_every)
     if args.restart_without_time:
         restart = restart_without_time(restart, work)
     print(f"restart: {restart} ({restart.stat().st_size / 1e6:.0f} MB), time step {float(case['dt']):.4g} s", flush=True)

@@ -4,8 +4,9 @@
         [--repeat 3] [--work DIR] [--json FILE]
 
 For each scale (cases/run_case.py --scale demo: 3 453 particles of 1 mm, 4 um meshes; paper: 63 320
-of 400 um (2.7 g), 1 um meshes) the case is prepared and run from its static fill into motion once, and a
-restart written (benchmarks/paper_cost.py: prepare, make_restart; kept in --work between calls).
+of 400 um (2.7 g), 1 um meshes) the case is prepared and its state in motion made once: the demo's kept
+steady state, the paper case run 0.1 s from its fill (benchmarks/paper_cost.py: prepare, motion_restart;
+kept in --work between calls; --restart SCALE FILE takes another).
 Then each rank count reads that restart and runs the first --steps steps of the case as it is
 (`processors N 1 1`, slabs along the screw axis; LIGGGHTS-PUBLIC has no load balancing), rank
 counts interleaved within each repeat. Printed per scale: ms/step (LIGGGHTS' loop time, median and
@@ -25,7 +26,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-# a sibling (python puts the script's folder first on its path): prepare, make_restart, bench, machine
+# a sibling (python puts the script's folder first on its path): prepare, motion_restart, bench, machine
 import paper_cost
 
 ROOT = paper_cost.ROOT
@@ -60,8 +61,7 @@ def main(argv: list[str] | None = None) -> int:
     report = []
     for scale, steps in zip(args.scales, args.steps):
         case = paper_cost.prepare(work, args.lmp, scale)
-        restart = given_restarts.get(scale) or paper_cost.make_restart(
-            work, args.lmp, case, paper_cost.DEFAULT_STARTUP_STEPS[scale], args.thermo_every)
+        restart = given_restarts.get(scale) or paper_cost.motion_restart(work, args.lmp, case, None, args.thermo_every)
         ms: dict[int, list[float]] = {n: [] for n in args.np}
         atoms = 0
         for repeat in range(args.repeat):
