@@ -1,6 +1,8 @@
 """fix squeeze/ledger on crafted scenes (docs/stability.md, "Squeezes on the paper machine"): a
 sphere driven into a wedge of two fixed walls and out again is one squeeze event whose peak overlap
-is the wedge's closed form, also when it changes rank mid-event; a centre pushed through a wall is
+is the wedge's closed form, also when it changes rank mid-event; two spheres pressed into each other
+are one event each with the closed-form pair overlap, whether the pair style's model records the
+overlaps (EEPA) or the ledger scans the neighbour list (Hertz), also across two ranks; a centre pushed through a wall is
 counted, named, and stops the run above max_crossed; gravity's work equals m g Δz; an elastic
 collision at a safe step creates no energy, one at ten times the critical step stops the run."""
 from __future__ import annotations
@@ -25,6 +27,8 @@ from crafted_scenes import (
     header,
 )
 from tsg_harness import run_lmp
+
+from tsg_cases.eepa_contact import Eepa
 
 MASS = DENSITY * 4 / 3 * math.pi * RADIUS**3
 HEADER = header(processors="* 1 1")
@@ -99,6 +103,58 @@ def test_a_sphere_driven_into_a_wedge_is_one_squeeze_with_the_closed_form_peak(t
     assert start_speed == pytest.approx(speed, rel=1e-9) and release_speed == pytest.approx(speed, rel=1e-9)
     assert thermo["q7"][-1] == 0                  # no centre behind a wall
     assert thermo["q8"][-1] == 0                  # fixed walls do no work
+
+
+# two spheres pressed into each other along x (prescribed, fix move), across the rank boundary x = 0,
+# far above the plane: the pair overlap alone opens the event
+GAP0 = 0.01 * RADIUS        # m, apart at the start
+APPROACH = 0.1              # m/s, each sphere
+N_PRESS = 1600              # steps in, then as many out: closest at 2 R + GAP0 − 2 APPROACH dt N_PRESS
+PAIR_PEAK = (2 * APPROACH * TIMESTEP * N_PRESS - GAP0) / RADIUS   # δ/R at the closest, 0.31
+PAIR_MODELS = {"hertz": "pair_style gran model hertz tangential history\npair_coeff * *\n",
+               "eepa": "\n".join(line for line in Eepa().include().splitlines() if not line.startswith("fix m3 ")) + "\n"}
+PAIR_SOURCE = {"hertz": "from a pass over the pair style's neighbour list",
+               "eepa": "recorded by the pair style's normal model in its force pass"}
+
+
+def pressed_pair_scene(model: str) -> str:
+    header = HEADER.replace("pair_style gran model hertz tangential history\npair_coeff * *\n", PAIR_MODELS[model])
+    x0 = RADIUS + GAP0 / 2
+    return header + corotating_walls(["plane"]) + f"""create_atoms 1 single {-x0!r} 0 0.005 units box
+create_atoms 1 single {x0!r} 0 0.005 units box
+set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
+group left id 1
+group right id 2
+timestep {TIMESTEP!r}
+{ledger()}{THERMO}thermo 400
+fix in_left left move linear {APPROACH!r} 0 0
+fix in_right right move linear -{APPROACH!r} 0 0
+run {N_PRESS}
+unfix in_left
+unfix in_right
+fix out_left left move linear -{APPROACH!r} 0 0
+fix out_right right move linear {APPROACH!r} 0 0
+run {N_PRESS}
+"""
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("model", sorted(PAIR_MODELS))
+def test_two_spheres_pressed_together_are_one_squeeze_each_with_the_closed_form_pair_peak(tmp_path, model, nprocs):
+    run = run_lmp(pressed_pair_scene(model), tmp_path, nprocs=nprocs, files={"plane.stl": PLANE, "disc.stl": LOW_DISC})
+    assert PAIR_SOURCE[model] in run.log      # the path under test is the one taken
+    records = read_records(tmp_path / "squeezes.txt")
+    assert records.shape == (2, 15), records
+    thermo = run.thermo[-1]
+    assert thermo["q1"][-1] == 2 and thermo["q3"][-1] == 2
+    assert thermo["q5"][-1] == pytest.approx(PAIR_PEAK, abs=1e-9)
+    for record in records:
+        ident, x, peak_wall, peak_pair, kind, with_particles = record[[2, 3, 7, 8, 10, 11]]
+        # positions are x0 + v t to rounding (1e-12 m): δ/R exact to 1e-9
+        assert peak_pair == pytest.approx(PAIR_PEAK, abs=1e-9)
+        assert peak_wall == 0 and with_particles == 1 and kind == 3        # particles alone
+        closest = RADIUS + GAP0 / 2 - APPROACH * TIMESTEP * N_PRESS
+        assert x == pytest.approx(-closest if ident == 1 else closest, abs=1e-12)
 
 
 def pushed_through_plane(keys: str) -> str:
