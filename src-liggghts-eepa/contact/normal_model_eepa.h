@@ -12,19 +12,16 @@ NORMAL_MODEL(EEPA,eepa,20)
 #ifndef TSG_NORMAL_MODEL_EEPA_H
 #define TSG_NORMAL_MODEL_EEPA_H
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "atom.h"
 #include "eepa_properties.h"
 #include "force.h"
 
 #include "eepa_law.h"
 #include "history_normal_model.h"
 #include "normal_force.h"
-#include "pair_depth_sink.h"
 
 namespace LIGGGHTS {
 namespace ContactModels {
@@ -49,20 +46,9 @@ public:
   // Used by heat conduction to scale the contact area: the loading-branch exponent.
   double stressStrainExponent() override { return eepa_properties_.slope_exponent_for_heat(); }
 
-  // As the pair style's model: each particle's deepest overlap of the step goes to fix squeeze/ledger
-  // from this pass over the contacts (common/pair_depth_sink.h).
-  void beginPass(SurfacesIntersectData &sidata, ForceData &, ForceData &) override
-  {
-    tsg::PairDepthSink *sink = sidata.is_wall ? nullptr : tsg::find_pair_depth_sink(lmp);
-    pair_depths_ = sink ? sink->pair_depths_recorded_by_pair_style() : nullptr;
-  }
-
   void surfacesIntersect(SurfacesIntersectData &sidata, ForceData &i_forces, ForceData &j_forces) override
   {
     if (sidata.contact_flags) *sidata.contact_flags |= CONTACT_NORMAL_MODEL;
-    if (pair_depths_ && !sidata.is_wall)
-      tsg::record_pair_depth(pair_depths_, atom->nlocal, sidata.i, sidata.j,
-                             sidata.deltan / std::min(sidata.radi, sidata.radj));
     const int itype = sidata.itype;
     const int jtype = sidata.jtype;
     const tsg::eepa::Parameters law =
@@ -104,7 +90,6 @@ public:
 private:
   int max_overlap_offset_ = -1;
   int plastic_overlap_offset_ = -1;
-  double *pair_depths_ = nullptr;  // this step's, while a sink takes them
   tsg::EepaProperties eepa_properties_;
 };
 

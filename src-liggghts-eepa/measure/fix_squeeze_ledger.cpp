@@ -3,10 +3,9 @@
 // Per particle the squeeze track of physics/squeeze.h, whether its centre is behind a wall, whether
 // the fix has seen it and its kinetic energy at the last step live in a per-atom array that migrates
 // with the particle and goes into restart files. The wall contacts come from the wall fix
-// (tsg::WallContactSource); each particle's deepest pair contact from the pair style's normal model
-// where it records them (tsg::PairDepthSink: EEPA), else from the pair style's neighbour list
-// (newton off: a pair with a ghost partner is also held by the partner's owner, so only local
-// particles are updated).
+// (tsg::WallContactSource), the pair contacts from the pair style's neighbour list (newton off: a
+// pair with a ghost partner is also held by the partner's owner, so only local particles are
+// updated).
 #include "fix_squeeze_ledger.h"
 
 #include <algorithm>
@@ -155,32 +154,19 @@ void FixSqueezeLedger::init()
   }
 }
 
-int FixSqueezeLedger::setmask() { return FixMeasureBase::setmask() | FixConst::PRE_FORCE; }
-
-// Before the forces of every step: no pair depth recorded yet.
-void FixSqueezeLedger::pre_force(int)
-{
-  pair_ratio_.assign(atom->nlocal, -1.0);
-  pair_depths_recorded_ = false;
-}
-
-void FixSqueezeLedger::setup_pre_force(int vflag) { pre_force(vflag); }
-
-double *FixSqueezeLedger::pair_depths_recorded_by_pair_style()
-{
-  if (pair_ratio_.size() != static_cast<size_t>(atom->nlocal)) pre_force(0);
-  pair_depths_recorded_ = true;
-  return pair_ratio_.data();
-}
-
-// The pair depths of a pair style whose model does not record them: a pass over its neighbour list.
-void FixSqueezeLedger::scan_pair_depths()
+void FixSqueezeLedger::pair_depths(std::vector<double> &ratio, std::vector<char> &touching) const
 {
   const int nlocal = atom->nlocal;
-  pair_ratio_.assign(nlocal, -1.0);
-  double *depth = pair_ratio_.data();
-  tsg::for_each_pair_contact(lmp,
-                             [&](int i, int j, double ratio) { tsg::record_pair_depth(depth, nlocal, i, j, ratio); });
+  ratio.assign(nlocal, 0.0);
+  touching.assign(nlocal, 0);
+  tsg::for_each_pair_contact(lmp, [&](int i, int j, double depth) {
+    ratio[i] = std::max(ratio[i], depth);
+    touching[i] = 1;
+    if (j < nlocal) {
+      ratio[j] = std::max(ratio[j], depth);
+      touching[j] = 1;
+    }
+  });
 }
 
 // Energy the particles hold at set-up, taken as given (a run's start, or what commands between runs
@@ -191,15 +177,6 @@ void FixSqueezeLedger::setup(int)
   // the clock starts at step x dt (the cases' time step is constant)
   if (!first_setup_done_ && !continuing_)
     clock_.load(static_cast<double>(update->ntimestep) * update->dt, static_cast<double>(update->ntimestep));
-  if (!first_setup_done_ && comm->me == 0) {
-    const std::string source = pair_depths_recorded_
-                                   ? "recorded by the pair style's normal model in its force pass"
-                                   : "from a pass over the pair style's neighbour list (its normal model does not "
-                                     "record them)";
-    const std::string text = who_ + ": particle-particle overlaps " + source + "\n";
-    if (screen) fputs(text.c_str(), screen);
-    if (logfile) fputs(text.c_str(), logfile);
-  }
   clock_.resume(update);
   double kinetic = 0, lift = 0;
   const double g = std::sqrt(gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2]);
@@ -232,7 +209,7 @@ void FixSqueezeLedger::end_of_step()
   const double *wall_ratio = walls_->step_overlap_ratio();
   const unsigned *touched = walls_->step_walls_touched();
   const unsigned *crossed = walls_->step_walls_crossed();
-  if (!pair_depths_recorded_) scan_pair_depths();
+  pair_depths(pair_ratio_, pair_touch_);
   const double g = std::sqrt(gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2]);
 
   enum {
@@ -273,8 +250,8 @@ void FixSqueezeLedger::end_of_step()
     sq::Sample sample;
     sample.wall_ratio = wall_ratio[i];
     sample.walls = touched[i];
-    sample.pair_ratio = std::max(pair_ratio_[i], 0.0);
-    sample.with_particles = pair_ratio_[i] >= 0;
+    sample.pair_ratio = pair_ratio_[i];
+    sample.with_particles = pair_touch_[i] != 0;
     sample.speed = std::sqrt(speed2);
     std::copy(x[i], x[i] + 3, sample.position);
     sq::Track track = load_track(s);

@@ -36,20 +36,15 @@ FixStyle(squeeze/ledger,FixSqueezeLedger)
 #include <vector>
 
 #include "fix_measure_base.h"
-#include "pair_depth_sink.h"
 #include "squeeze.h"
 #include "wall_contact_source.h"
 
 namespace LAMMPS_NS {
 
-class FixSqueezeLedger : public FixMeasureBase, public tsg::PairDepthSink {
+class FixSqueezeLedger : public FixMeasureBase {
 public:
   FixSqueezeLedger(class LAMMPS *, int, char **);
-  int setmask() override;
   void init() override;
-  void setup_pre_force(int) override;
-  void pre_force(int) override;
-  double *pair_depths_recorded_by_pair_style() override;
   void setup(int) override;
   void end_of_step() override;
   void post_run() override;
@@ -60,7 +55,7 @@ public:
 private:
   void refresh(int) override {}
   std::string state_size_hint() const override;
-  void scan_pair_depths();
+  void pair_depths(std::vector<double> &ratio, std::vector<char> &touching) const;
   double excess() const;
   void report_crossings(const std::vector<double> &mine, double count);
   void flush();
@@ -83,10 +78,8 @@ private:
   double pressed_now_ = 0, lift_ = 0, power_previous_ = 0;
   int crossings_named_ = 0;
 
-  // this step's deepest pair δ/R per local particle, −1 without a particle contact: recorded by the
-  // pair style's normal model in its pass (EEPA), else scanned from the neighbour list at the step's end
-  std::vector<double> pair_ratio_;
-  bool pair_depths_recorded_ = false;
+  std::vector<double> pair_ratio_;  // this step's deepest pair δ/R per local particle
+  std::vector<char> pair_touch_;
   std::vector<double> pending_;  // closed events of this rank, one record (15 values) each
 };
 
