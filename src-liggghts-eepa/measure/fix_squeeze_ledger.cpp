@@ -3,9 +3,9 @@
 // Per particle the squeeze track of physics/squeeze.h, whether its centre is behind a wall, whether
 // the fix has seen it and its kinetic energy at the last step live in a per-atom array that migrates
 // with the particle and goes into restart files. The wall contacts come from the wall fix
-// (tsg::WallContactSource), the pair contacts from the pair style's neighbour list (newton off: a
-// pair with a ghost partner is also held by the partner's owner, so only local particles are
-// updated).
+// (tsg::WallContactSource); each particle's deepest pair contact from the granular pair style's own
+// force pass (tsg::PairDepthSink, patches/pair-gran-base-h.patch; newton off: a pair with a ghost
+// partner is also held by the partner's owner, so only local particles are updated).
 #include "fix_squeeze_ledger.h"
 
 #include <algorithm>
@@ -27,7 +27,6 @@
 #include "gather.h"
 #include "numbers.h"
 #include "output_files.h"
-#include "pair_contacts.h"
 
 using namespace LAMMPS_NS;
 namespace sq = tsg::squeeze;
@@ -154,19 +153,22 @@ void FixSqueezeLedger::init()
   }
 }
 
-void FixSqueezeLedger::pair_depths(std::vector<double> &ratio, std::vector<char> &touching) const
+int FixSqueezeLedger::setmask() { return FixMeasureBase::setmask() | FixConst::PRE_FORCE; }
+
+// Before the forces of every step: no pair depth recorded yet.
+void FixSqueezeLedger::pre_force(int)
 {
-  const int nlocal = atom->nlocal;
-  ratio.assign(nlocal, 0.0);
-  touching.assign(nlocal, 0);
-  tsg::for_each_pair_contact(lmp, [&](int i, int j, double depth) {
-    ratio[i] = std::max(ratio[i], depth);
-    touching[i] = 1;
-    if (j < nlocal) {
-      ratio[j] = std::max(ratio[j], depth);
-      touching[j] = 1;
-    }
-  });
+  pair_ratio_.assign(atom->nlocal, -1.0);
+  pair_depths_recorded_ = false;
+}
+
+void FixSqueezeLedger::setup_pre_force(int vflag) { pre_force(vflag); }
+
+double *FixSqueezeLedger::pair_depths_recorded_by_pair_style()
+{
+  if (pair_ratio_.size() != static_cast<size_t>(atom->nlocal)) pre_force(0);
+  pair_depths_recorded_ = true;
+  return pair_ratio_.data();
 }
 
 // Energy the particles hold at set-up, taken as given (a run's start, or what commands between runs
@@ -177,6 +179,12 @@ void FixSqueezeLedger::setup(int)
   // the clock starts at step x dt (the cases' time step is constant)
   if (!first_setup_done_ && !continuing_)
     clock_.load(static_cast<double>(update->ntimestep) * update->dt, static_cast<double>(update->ntimestep));
+  // the pair style's pass of set-up has recorded the pair depths, or there are no particle contacts
+  if (force->pair && !pair_depths_recorded_)
+    fail(lmp, who_,
+         std::string("pair style '") + force->pair_style +
+             "' does not record each particle's deepest particle-particle overlap (allowed: pair_style gran, "
+             "with its force computation on)");
   clock_.resume(update);
   double kinetic = 0, lift = 0;
   const double g = std::sqrt(gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2]);
@@ -209,7 +217,6 @@ void FixSqueezeLedger::end_of_step()
   const double *wall_ratio = walls_->step_overlap_ratio();
   const unsigned *touched = walls_->step_walls_touched();
   const unsigned *crossed = walls_->step_walls_crossed();
-  pair_depths(pair_ratio_, pair_touch_);
   const double g = std::sqrt(gravity_[0] * gravity_[0] + gravity_[1] * gravity_[1] + gravity_[2] * gravity_[2]);
 
   enum {
@@ -250,8 +257,8 @@ void FixSqueezeLedger::end_of_step()
     sq::Sample sample;
     sample.wall_ratio = wall_ratio[i];
     sample.walls = touched[i];
-    sample.pair_ratio = pair_ratio_[i];
-    sample.with_particles = pair_touch_[i] != 0;
+    sample.pair_ratio = std::max(pair_ratio_[i], 0.0);
+    sample.with_particles = pair_ratio_[i] >= 0;
     sample.speed = std::sqrt(speed2);
     std::copy(x[i], x[i] + 3, sample.position);
     sq::Track track = load_track(s);

@@ -36,15 +36,20 @@ FixStyle(squeeze/ledger,FixSqueezeLedger)
 #include <vector>
 
 #include "fix_measure_base.h"
+#include "pair_depth_sink.h"
 #include "squeeze.h"
 #include "wall_contact_source.h"
 
 namespace LAMMPS_NS {
 
-class FixSqueezeLedger : public FixMeasureBase {
+class FixSqueezeLedger : public FixMeasureBase, public tsg::PairDepthSink {
 public:
   FixSqueezeLedger(class LAMMPS *, int, char **);
+  int setmask() override;
   void init() override;
+  void setup_pre_force(int) override;
+  void pre_force(int) override;
+  double *pair_depths_recorded_by_pair_style() override;
   void setup(int) override;
   void end_of_step() override;
   void post_run() override;
@@ -55,7 +60,6 @@ public:
 private:
   void refresh(int) override {}
   std::string state_size_hint() const override;
-  void pair_depths(std::vector<double> &ratio, std::vector<char> &touching) const;
   double excess() const;
   void report_crossings(const std::vector<double> &mine, double count);
   void flush();
@@ -78,8 +82,10 @@ private:
   double pressed_now_ = 0, lift_ = 0, power_previous_ = 0;
   int crossings_named_ = 0;
 
-  std::vector<double> pair_ratio_;  // this step's deepest pair δ/R per local particle
-  std::vector<char> pair_touch_;
+  // this step's deepest pair δ/R per local particle, −1 without a particle contact: recorded by the
+  // granular pair style in its force pass (pair_depths_recorded_by_pair_style)
+  std::vector<double> pair_ratio_;
+  bool pair_depths_recorded_ = false;
   std::vector<double> pending_;  // closed events of this rank, one record (15 values) each
 };
 

@@ -154,6 +154,16 @@ def test_two_spheres_pressed_together_are_one_squeeze_each_with_the_closed_form_
         assert x == pytest.approx(-closest if ident == 1 else closest, abs=1e-12)
 
 
+def test_a_pair_style_that_does_not_record_the_pair_depths_is_refused(tmp_path):
+    # the granular pair style records each particle's deepest overlap in its force pass; switched off,
+    # the ledger would see no particle contact at all
+    text = HEADER.replace("pair_coeff * *\n", "pair_coeff * *\npair_modify compute no\n") + corotating_walls(["plane"]) + \
+        f"create_atoms 1 single 0 0 0.005 units box\n{ledger()}run 1\n"
+    run = run_lmp(text, tmp_path, files={"plane.stl": PLANE, "disc.stl": LOW_DISC}, expect_error=True)
+    assert "fix squeeze squeeze/ledger: pair style 'gran' does not record each particle's deepest particle-particle " \
+        "overlap (allowed: pair_style gran, with its force computation on)" in run.log, run.log[-1500:]
+
+
 def pushed_through_plane(keys: str) -> str:
     return HEADER + corotating_walls(["plane"]) + f"""create_atoms 1 single 0.0003 0.0002 {1.01 * RADIUS!r} units box
 set atom * diameter {2 * RADIUS!r} density {DENSITY!r}
