@@ -139,10 +139,17 @@ def keep(run_dir: Path, state_dir: Path, restart: Path | None = None) -> KeptSta
     if from_file:
         step = int(restart.suffix[1:])
         time = t_startup = _row_at_step(run_dir, step)
-        given = "".join(f" -v {name} {value}" for name, value in variables.items()
-                        if name not in ("case_dir", "out_dir", "mesh_dir", "fill_file", "zones_file"))
-        command = (f"tsg-run-case periodic --scale {params['scale']} --seed {params['seed']} --np {params['np']} "
-                   f"--out RUN{given} (continued past step {step}); "
+        # a run prepared by a job chain (cases/slurm/segment.sh) names its own options, --holdup-g or
+        # --clearances among them, which params.json does not keep
+        chain = run_dir / "prepared-with"
+        if chain.is_file():
+            made = f"tsg-run-case periodic {chain.read_text().strip()} --out RUN"
+        else:
+            given = "".join(f" -v {name} {value}" for name, value in variables.items()
+                            if name not in ("case_dir", "out_dir", "mesh_dir", "fill_file", "zones_file"))
+            made = (f"tsg-run-case periodic --scale {params['scale']} --seed {params['seed']} --np {params['np']} "
+                    f"--out RUN{given}")
+        command = (f"{made} (continued past step {step}); "
                    f"python -m tsg_cases.states keep RUN {state_dir} --restart RUN/{restart.name}")
     else:
         command = (f"tsg-run-case periodic --scale {params['scale']} --seed {params['seed']} --np {params['np']} "

@@ -39,6 +39,15 @@ def test_a_state_from_a_restart_file_ends_at_that_files_step_and_time(tmp_path):
     assert states.read(state.path) == state
 
 
+def test_a_state_of_a_chain_prepared_run_names_the_chains_own_options(tmp_path):
+    # a kept run (scripts/kept-run.sh) is prepared once with options params.json does not keep
+    run = run_dir(tmp_path)
+    (run / "prepared-with").write_text("--scale paper --holdup-g 2.7 -v t_startup 0.1\n")
+    state = states.keep(run, tmp_path / "state" / "seed-12345", run / "restart.200")
+    assert state.command.startswith("tsg-run-case periodic --scale paper --holdup-g 2.7 -v t_startup 0.1 --out RUN "
+                                    "(continued past step 200)")
+
+
 def test_a_restart_file_off_the_thermo_rows_or_misnamed_is_refused(tmp_path):
     run = run_dir(tmp_path)
     with pytest.raises(states.StateError, match="no thermo row at step 250"):
