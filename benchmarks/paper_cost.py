@@ -36,6 +36,7 @@ import os
 import platform
 import re
 import shlex
+import shutil
 import statistics
 import struct
 import subprocess
@@ -171,11 +172,27 @@ RUN_OWN = {"case_dir", "out_dir", "fill_file", "start", "restart_file", "t_start
            "mesh_dir", "zones_file", "domain_length"}
 
 
+def stale_variables(prepared: Path, scale: str) -> str:
+    """The variables of the scale (run_case.SCALES) that a prepared run holds with other values or
+    lacks, e.g. "skin_fraction (none, not 0.2)"; empty when none, or when nothing is prepared yet."""
+    if not (prepared / "lmp.vars").is_file():
+        return ""
+    held = read_lmp_vars(prepared)
+    wanted = {name: str(value) for name, value in SCALES[scale]["vars"].items() if name not in RUN_OWN}
+    return ", ".join(f"{name} ({held.get(name, 'none')}, not {value})" for name, value in wanted.items()
+                     if name not in held or float(held[name]) != float(value))
+
+
 def prepare(work: Path, lmp: str, scale: str = "paper") -> dict[str, object]:
     """Meshes, zones and fill of the scale (run_case.py with no steps); the case variables: the
     prepared run's lmp.vars (the values it ran with; `--work DIR` with DIR/prepared a link to a run
     directory times that run's settings), less those of RUN_OWN."""
     prepared = work / ("prepared" if scale == "paper" else f"prepared-{scale}")
+    stale = stale_variables(prepared, scale)
+    if stale and not prepared.is_symlink():   # prepared here by an older tree: prepared again
+        print(f"paper_cost.py: {prepared} was prepared with {stale}, not the {scale} scale's values of today: "
+              "preparing it again", file=sys.stderr)
+        shutil.rmtree(prepared)
     if not (prepared / "fill.in").exists():
         subprocess.run([sys.executable, str(CASES / "run_case.py"), "periodic", "--scale", scale, "--out", str(prepared),
                         "-v", "t_startup", "0", "-v", "t_sample", "1e-12"], check=True, capture_output=True, text=True,

@@ -301,3 +301,19 @@ def test_lmp_vars_are_read_as_written_and_a_bad_line_is_named(tmp_path):
         read_lmp_vars(tmp_path)
     with pytest.raises(UserError, match="no such file"):
         read_lmp_vars(tmp_path / "elsewhere")
+
+
+def test_a_benchmark_prepared_by_an_older_tree_is_named_stale(tmp_path):
+    """benchmarks/paper_cost.py times a prepared run's variables; a run it prepared before a scale's
+    value changed (the demo's skin_fraction 0.2, which a demo prepared earlier lacks and so ran with the
+    case files' 0.4) is stale: prepared again, not timed with the old values."""
+    import paper_cost   # benchmarks/ is on PYTHONPATH (tests/CMakeLists.txt)
+    prepared = tmp_path / "prepared-demo"
+    prepared.mkdir()
+    assert paper_cost.stale_variables(prepared, "demo") == ""   # nothing prepared yet
+    (prepared / "lmp.vars").write_text("d_mean 0.001\ndt_fraction 0.2\nthermo_every 2000\nstats_every 2000\n"
+                                       "out_dir /x\n")
+    assert paper_cost.stale_variables(prepared, "demo") == "skin_fraction (none, not 0.2)"
+    (prepared / "lmp.vars").write_text("d_mean 0.001\ndt_fraction 0.20\nskin_fraction 0.2\nout_dir /x\n")
+    assert paper_cost.stale_variables(prepared, "demo") == ""
+    assert paper_cost.stale_variables(prepared, "paper") == "d_mean (0.001, not 0.0004), dt_fraction (0.20, not 0.1)"
