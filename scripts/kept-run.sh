@@ -9,7 +9,8 @@
 #                                                      # (DONE), its outputs only
 #
 # KEPT/run.conf (shell variables): CASE (periodic | full | nonperiodic), OUT (the run folder; relative
-# to the repository unless absolute), PREPARE (tsg-run-case options after the case name, not --out), RESTART_EVERY
+# to the repository unless absolute), PREPARE (tsg-run-case options after the case name, not --out; its
+# paths relative to the repository: the segments run from there), RESTART_EVERY
 # (steps between restart files).
 # On a fresh checkout `run` unpacks KEPT into OUT; the first segment prepares the run again (meshes,
 # feed regions: the same for the same options) and continues from the kept restart file. The records
@@ -78,6 +79,7 @@ fi
 rm -f "$out/last-restart"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 launch=""
+cd "$repo"   # PREPARE's paths (e.g. --from-state) are relative to the repository, wherever this is called from
 [ "$ranks" -gt 1 ] && launch="mpirun -np $ranks --oversubscribe"
 TSG_OUT="$out" TSG_LAUNCH="$launch" TSG_RESTART_EVERY="${RESTART_EVERY:?run.conf: RESTART_EVERY not set}" \
   TSG_PREPARE="${PREPARE:?run.conf: PREPARE not set}" TSG_VARS="$until_vars" SLURM_NTASKS="$ranks" \
