@@ -1,7 +1,7 @@
 """Runs of the paper-scale case from one developed state (dt-ladder/, yield-ladder/): per run, what its
 thermo and squeeze records say about stability and cost over the same simulated time.
 
-    .venv/bin/python studies/paper-400um/state_table.py [--end T] "dt / Rayleigh time" \
+    .venv/bin/python studies/paper-400um/state_table.py [--start T0] [--end T] "dt / Rayleigh time" \
         runs/paper-400um-dt-ladder/dt_fraction-0.05=0.05 runs/paper-400um-dt-ladder/reference="0.1 (reference)" ...
 """
 from __future__ import annotations
@@ -16,23 +16,36 @@ from tsg_analysis.liggghts_log import parse_thermo
 from tsg_analysis.run import Run
 
 
-def row(point: Path, label: str, end: float | None = None) -> str:
-    """One table row over the run's log, or over its thermo intervals that end by `end` s."""
+def chunks(run: Run, start: float | None, end: float | None) -> list[tuple[dict[str, np.ndarray], float, int, int]]:
+    """The run's thermo intervals (thermo block, loop seconds, steps, neighbour-list builds) that lie in
+    [start, end] s, over every segment's log; a segment continued from a restart file replaces the
+    earlier segment's intervals from that restart on."""
+    kept: list[tuple[dict[str, np.ndarray], float, int, int]] = []
+    for log in run.segment_logs:
+        loops = re.findall(r"^Loop time of (\S+) on \d+ procs for (\d+) steps", log, re.M)
+        builds = [int(n) for n in re.findall(r"^Neighbor list builds = (\d+)", log, re.M)]
+        complete = parse_thermo(log)[:min(len(loops), len(builds))]   # a killed segment's last block has no loop line
+        new = [(block, float(t), int(n), b) for block, (t, n), b in zip(complete, loops, builds)
+               if "Time" in block and len(block["Time"])]
+        if new:
+            first = float(new[0][0]["Time"][0])
+            kept = [c for c in kept if float(c[0]["Time"][-1]) <= first * (1 + 1e-12)]
+        kept += new
+    return [c for c in kept if (start is None or float(c[0]["Time"][0]) >= start * (1 - 1e-12))
+            and (end is None or float(c[0]["Time"][-1]) <= end * (1 + 1e-12))]
+
+
+def row(point: Path, label: str, start: float | None = None, end: float | None = None) -> str:
+    """One table row over the run's thermo intervals in [start, end] s (all when None)."""
     run = Run(point)
     log = run.log
-    blocks = [b for b in parse_thermo(log) if "Time" in b and len(b["Time"])]
-    loops = re.findall(r"^Loop time of (\S+) on \d+ procs for (\d+) steps", log, re.M)
-    builds_per_chunk = [int(n) for n in re.findall(r"^Neighbor list builds = (\d+)", log, re.M)]
-    if end is not None:   # the chunks (one thermo interval each: one block, one loop time) that end by `end`
-        chunks = 0
-        while chunks < min(len(blocks), len(loops)) and float(blocks[chunks]["Time"][-1]) <= end * (1 + 1e-12):
-            chunks += 1
-        blocks, loops, builds_per_chunk = blocks[:chunks], loops[:chunks], builds_per_chunk[:chunks]
-    column = {name: np.concatenate([b[name] for b in blocks]) for name in ("Time", "speed", "fast", "squeezes", "crossed",
-                                                                          "e_excess")}
+    window = chunks(run, start, end)
+    if not window:
+        raise SystemExit(f"{point}: no complete thermo interval in [{start}, {end}] s")
+    column = {name: np.concatenate([c[0][name] for c in window]) for name in ("Time", "speed", "e_excess")}
+    counted = {name: sum(float(c[0][name][-1] - c[0][name][0]) for c in window) for name in ("fast", "crossed")}
     start, end = float(column["Time"][0]), float(column["Time"][-1])
-    seconds, steps = sum(float(t) for t, _ in loops), sum(int(n) for _, n in loops)
-    builds = sum(builds_per_chunk)
+    seconds, steps, builds = sum(c[1] for c in window), sum(c[2] for c in window), sum(c[3] for c in window)
     lost = re.search(r"ERROR: Lost atoms: (\d+) at the previous check.*?, (\d+) now", log)
     ledger = run.squeeze_ledger(start, end)
     release = ledger.release_speed_quantiles
@@ -41,8 +54,8 @@ def row(point: Path, label: str, end: float | None = None) -> str:
                else f"runs on: to t = {end:.4f} s, nothing lost, no stop")
     return (f"| {label} | {outcome} | {1e3 * (end - start):.1f} | {steps} | {1e3 * seconds / steps:.1f} | "
             f"{1e3 * builds / steps:.0f} | {seconds / (end - start) / 3600:.1f} | "
-            f"{int(column['fast'][-1] - column['fast'][0])} | {ledger.events} | {release[0.99]:.3g} / {release[1.0]:.3g} | "
-            f"{ledger.peak_wall_quantiles[1.0]:.3g} | {int(column['crossed'][-1] - column['crossed'][0])} | "
+            f"{int(counted['fast'])} | {ledger.events} | {release[0.99]:.3g} / {release[1.0]:.3g} | "
+            f"{ledger.peak_wall_quantiles[1.0]:.3g} | {int(counted['crossed'])} | "
             f"{float(column['speed'].max()):.3g} | {float(column['e_excess'].max()):.4f} |")
 
 
@@ -50,6 +63,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("setting", help="the first column's title: what the runs vary")
     parser.add_argument("runs", nargs="+", metavar="RUN_DIR=LABEL", help="each run directory and its row label")
+    parser.add_argument("--start", type=float, help="only the thermo intervals that begin at or after this time, s")
     parser.add_argument("--end", type=float, help="only the thermo intervals that end by this time, s (runs of "
                                                   "different lengths over one window)")
     args = parser.parse_args()
@@ -62,7 +76,7 @@ def main() -> None:
         if not label:
             parser.error(f"{item}: give RUN_DIR=LABEL")
         if (Path(path) / "log.lammps").is_file():
-            print(row(Path(path), label, args.end))
+            print(row(Path(path), label, args.start, args.end))
 
 
 if __name__ == "__main__":
