@@ -1,13 +1,14 @@
-"""The squeeze treatment against the paper's model, paired by state. Each treated run continues a state
-of the reference run (the paper's model) at its own start time; over [start, start + WINDOW] the treated
-run and the reference are two continuations of one state, and the difference of their window means
-is one paired sample. With R states, the mean difference has Student's t with R - 1 degrees of freedom.
+"""A setting against the reference, paired by state (treatment-2.7g/, dt-paired-2.7g/). Each run of the
+setting continues a state of the reference run at its own start time; over [start, start + WINDOW] it
+and the reference are two continuations of one state, and the difference of their window means is one
+paired sample. With R states, the mean difference has Student's t with R - 1 degrees of freedom.
 
-    LC_ALL=C.UTF-8 .venv/bin/python studies/paper-400um/treatment-2.7g/paired.py REFERENCE WINDOW TREATED...
+    LC_ALL=C.UTF-8 .venv/bin/python studies/paper-400um/paired.py REFERENCE WINDOW RUN...
 
 Per key quantity (mass flow at the sensors and through the domain, per-element solid fraction, axial
-velocity and speed): the reference's mean over the R windows, the mean paired difference +- its 95 %
-half-width (both relative to the reference), "differs" when that interval excludes zero, and the
+velocity and speed): the reference's mean over the R windows, the run's mean paired difference +- its 95 %
+half-width (both relative to the reference), "differs" when that interval excludes zero, the bound
+|difference| + half-width (the setting is within a tolerance when the bound is), and the
 largest 95 % half-width of a single window (how well one window resolves the quantity on its own).
 """
 from __future__ import annotations
@@ -35,23 +36,23 @@ def estimates(run: Run, start: float, end: float) -> dict[tuple[str, str], Estim
     return found
 
 
-def main(reference_dir: str, window: str, treated_dirs: list[str]) -> None:
-    if len(treated_dirs) < 2:
-        raise SystemExit("give at least 2 treated runs (states): a paired interval needs 2 pairs or more")
+def main(reference_dir: str, window: str, run_dirs: list[str]) -> None:
+    if len(run_dirs) < 2:
+        raise SystemExit("give at least 2 runs (states): a paired interval needs 2 pairs or more")
     length = float(window)
     reference = Run(reference_dir)
     pairs = []
-    for path in treated_dirs:
-        treated = Run(path)
-        start = start_time(treated)
-        pairs.append((start, estimates(reference, start, start + length), estimates(treated, start, start + length)))
+    for path in run_dirs:
+        run = Run(path)
+        start = start_time(run)
+        pairs.append((start, estimates(reference, start, start + length), estimates(run, start, start + length)))
     count = len(pairs)
     t = t_quantile(count - 1)
-    print(f"{' + '.join(str(p) for p in treated_dirs)} against {reference_dir}: {count} states "
+    print(f"{' + '.join(str(p) for p in run_dirs)} against {reference_dir}: {count} states "
           f"({', '.join(f'{s:.4f}' for s, _, _ in pairs)} s), {length:g} s each; 95 % half-widths relative to the "
           f"reference's mean, Student's t with {count - 1} degrees of freedom")
-    print("| quantity | scope | reference | treated - reference | differs | per-pair differences | one window's half-width |")
-    print("|---|---|---|---|---|---|---|")
+    print("| quantity | scope | reference | run - reference | differs | bound | per-pair differences | one window's half-width |")
+    print("|---|---|---|---|---|---|---|---|")
     keys = [k for k in pairs[0][1] if all(k in r and k in p for _, r, p in pairs)]
     for key in keys:
         ref = np.array([r[key].mean for _, r, _ in pairs])
@@ -62,9 +63,9 @@ def main(reference_dir: str, window: str, treated_dirs: list[str]) -> None:
         half = t * float(diff.std(ddof=1)) / math.sqrt(count)
         mean = float(diff.mean())
         single = max(e[key].half_width for _, r, p in pairs for e in (r, p))
+        per_pair = ", ".join(f"{d / scale:+.1%}" for d in diff)
         print(f"| {key[0]} | {key[1]} | {ref.mean():.4g} | {mean / scale:+.1%} ± {half / scale:.1%} | "
-              f"{'yes' if abs(mean) > half else 'no'} | {', '.join(f'{d / scale:+.1%}' for d in diff)} | "
-              f"{single / scale:.1%} |")
+              f"{'yes' if abs(mean) > half else 'no'} | {(abs(mean) + half) / scale:.1%} | {per_pair} | {single / scale:.1%} |")
 
 
 if __name__ == "__main__":
