@@ -28,7 +28,8 @@ kept="$(cd "${2:?$usage}" && pwd)"
 # shellcheck source=/dev/null
 . "$kept/run.conf"
 case "${OUT:?run.conf: OUT not set}" in /*) out="$OUT" ;; *) out="$repo/$OUT" ;; esac
-outputs=(log.lammps massflow.txt residence.txt elements.txt holdup.txt squeezes.txt phase.in fill.vars)   # what a continuation reads
+# what a continuation reads, and what the analysis of a finished run reads (zones, parameters)
+outputs=(log.lammps massflow.txt residence.txt elements.txt holdup.txt squeezes.txt phase.in fill.vars zones.txt params.json)
 
 if [ "$action" = keep ]; then
   if pgrep -f "in.tsg_${CASE} .*$out" > /dev/null; then
@@ -72,6 +73,11 @@ if [ ! -d "$out" ]; then   # a fresh checkout: the kept state
   for f in "$kept"/*.xz; do [ -f "$f" ] && xz -dc "$f" > "$out/$(basename "$f" .xz)"; done
   if [ -f "$kept/DONE" ]; then
     touch "$out/DONE"
+    if [ ! -f "$out/zones.txt" ] || [ ! -f "$out/params.json" ]; then
+      # kept before its zones and parameters were kept: its preparation makes them (the same for the same options)
+      (cd "$repo" && ${TSG_RUN_CASE:-$repo/.venv/bin/tsg-run-case} "$CASE" $PREPARE --out "$out" --prepare-only) > /dev/null \
+        || { echo "kept-run.sh: preparing $out for its analysis failed: tsg-run-case $CASE $PREPARE --out $out --prepare-only" >&2; exit 1; }
+    fi
     echo "kept-run.sh: $OUT is a finished run: its outputs are unpacked into $out, nothing to run"; exit 0
   fi
 fi

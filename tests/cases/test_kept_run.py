@@ -10,6 +10,13 @@ import numpy as np
 from test_slurm import ROOT, elements, environment, kill_after_restart
 
 
+def mesh_dir_name(run_dir: Path) -> str:
+    """The meshes a run was made on, as its log names them."""
+    found = re.search(r"mesh_dir=\S*/([^/\s]+)", (run_dir / "log.lammps").read_text(errors="replace"))
+    assert found, f"{run_dir}/log.lammps names no mesh_dir"
+    return found.group(1)
+
+
 def thermo_steps(log: Path) -> list[int]:
     return [int(m) for m in re.findall(r"^\s+(\d+)\s+[\d.e+-]+\s+\d+\s", log.read_text(errors="replace"), re.M)]
 
@@ -52,6 +59,17 @@ def test_a_kept_run_continues_on_a_fresh_checkout_from_its_kept_restart_file(tmp
     unpack = subprocess.run([str(kept_run), "run", str(kept), "1"], env=env, capture_output=True, text=True, timeout=120)
     assert unpack.returncode == 0 and "finished run" in unpack.stdout, unpack.stdout + unpack.stderr
     assert (out / "elements.txt").read_text() == finished and not (out / "log.liggghts").exists()
+    # what the analysis of a finished run reads besides its outputs: zones and parameters, unpacked; a run
+    # kept before they were kept gets them from its preparation
+    assert (out / "zones.txt").is_file() and (out / "params.json").is_file(), sorted(p.name for p in out.iterdir())
+    for name in ("zones.txt.xz", "params.json.xz"):
+        (kept / name).unlink()
+    subprocess.run(["rm", "-rf", str(out)], check=True)
+    older = subprocess.run([str(kept_run), "run", str(kept), "1"], env=env, capture_output=True, text=True, timeout=600)
+    assert older.returncode == 0 and "finished run" in older.stdout, older.stdout + older.stderr
+    assert (out / "elements.txt").read_text() == finished and not (out / "log.liggghts").exists()
+    assert (out / "zones.txt").read_text() == (ROOT / "build" / "meshes" / mesh_dir_name(out) / "zones.txt").read_text()
+    assert '"case": "periodic"' in (out / "params.json").read_text()
     whole_out = tmp_path / "whole"
     whole = subprocess.run([str(kept_run), "run", str(conf(tmp_path / "kept-whole", whole_out)), "1"], env=env,
                            capture_output=True, text=True, timeout=600)
