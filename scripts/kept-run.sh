@@ -15,7 +15,7 @@
 # On a fresh checkout `run` unpacks KEPT into OUT; the first segment prepares the run again (meshes,
 # feed regions: the same for the same options) and continues from the kept restart file. The records
 # written after that restart file by the stopped segment are dropped by the measurement fixes. A kept
-# finished run (KEPT/DONE) is only unpacked: its outputs are what the analysis reads.
+# finished run (KEPT/DONE) is only unpacked: its outputs, zones and parameters are what the analysis reads.
 # --until T: the sampling ends at t = T s (full case), with a residence record "inside" for every
 # particle still in the granulator (the RTDs need them).
 # Stop a running segment with kill (its PID, or pkill -f "in.tsg_$CASE") before `keep`.
