@@ -28,6 +28,7 @@ kept="$(cd "${2:?$usage}" && pwd)"
 # shellcheck source=/dev/null
 . "$kept/run.conf"
 case "${OUT:?run.conf: OUT not set}" in /*) out="$OUT" ;; *) out="$repo/$OUT" ;; esac
+cd "$repo"   # PREPARE's paths (e.g. --from-state) are relative to the repository, wherever this is called from
 # what a continuation reads, and what the analysis of a finished run reads (zones, parameters)
 outputs=(log.lammps massflow.txt residence.txt elements.txt holdup.txt squeezes.txt phase.in fill.vars zones.txt params.json)
 
@@ -75,7 +76,7 @@ if [ ! -d "$out" ]; then   # a fresh checkout: the kept state
     touch "$out/DONE"
     if [ ! -f "$out/zones.txt" ] || [ ! -f "$out/params.json" ]; then
       # kept before its zones and parameters were kept: its preparation makes them (the same for the same options)
-      (cd "$repo" && ${TSG_RUN_CASE:-$repo/.venv/bin/tsg-run-case} "$CASE" $PREPARE --out "$out" --prepare-only) > /dev/null \
+      ${TSG_RUN_CASE:-$repo/.venv/bin/tsg-run-case} "$CASE" $PREPARE --out "$out" --prepare-only > /dev/null \
         || { echo "kept-run.sh: preparing $out for its analysis failed: tsg-run-case $CASE $PREPARE --out $out --prepare-only" >&2; exit 1; }
     fi
     echo "kept-run.sh: $OUT is a finished run: its outputs are unpacked into $out, nothing to run"; exit 0
@@ -85,7 +86,6 @@ fi
 rm -f "$out/last-restart"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 launch=""
-cd "$repo"   # PREPARE's paths (e.g. --from-state) are relative to the repository, wherever this is called from
 [ "$ranks" -gt 1 ] && launch="mpirun -np $ranks --oversubscribe"
 TSG_OUT="$out" TSG_LAUNCH="$launch" TSG_RESTART_EVERY="${RESTART_EVERY:?run.conf: RESTART_EVERY not set}" \
   TSG_PREPARE="${PREPARE:?run.conf: PREPARE not set}" TSG_VARS="$until_vars" SLURM_NTASKS="$ranks" \
