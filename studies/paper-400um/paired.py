@@ -1,7 +1,8 @@
 """A setting against the reference, paired by state (treatment-2.7g/, dt-paired-2.7g/). Each run of the
 setting continues a state of the reference run at its own start time; over [start, start + WINDOW] it
 and the reference are two continuations of one state, and the difference of their window means is one
-paired sample. With R states, the mean difference has Student's t with R - 1 degrees of freedom.
+paired sample. The R paired differences are combined as replicas are (uncertainty.replica_means:
+Student's t with R - 1 degrees of freedom, never narrower than the windows' own fluctuation allows).
 
     LC_ALL=C.UTF-8 .venv/bin/python studies/paper-400um/paired.py REFERENCE WINDOW RUN...
 
@@ -19,7 +20,7 @@ import sys
 import numpy as np
 
 from tsg_analysis.run import Run
-from tsg_analysis.uncertainty import Estimate, t_quantile
+from tsg_analysis.uncertainty import Estimate, replica_means
 
 
 def start_time(run: Run) -> float:
@@ -36,6 +37,13 @@ def estimates(run: Run, start: float, end: float) -> dict[tuple[str, str], Estim
     return found
 
 
+def pair_difference(reference: Estimate, run: Estimate) -> Estimate:
+    """run - reference over one state's window, with both windows' standard errors (an upper bound for
+    two continuations of one state, which are positively correlated)."""
+    return Estimate(run.mean - reference.mean, math.hypot(reference.standard_error, run.standard_error),
+                    reference.samples + run.samples, min(reference.independent_samples, run.independent_samples), math.nan)
+
+
 def main(reference_dir: str, window: str, run_dirs: list[str]) -> None:
     if len(run_dirs) < 2:
         raise SystemExit("give at least 2 runs (states): a paired interval needs 2 pairs or more")
@@ -47,21 +55,21 @@ def main(reference_dir: str, window: str, run_dirs: list[str]) -> None:
         start = start_time(run)
         pairs.append((start, estimates(reference, start, start + length), estimates(run, start, start + length)))
     count = len(pairs)
-    t = t_quantile(count - 1)
     print(f"{' + '.join(str(p) for p in run_dirs)} against {reference_dir}: {count} states "
           f"({', '.join(f'{s:.4f}' for s, _, _ in pairs)} s), {length:g} s each; 95 % half-widths relative to the "
-          f"reference's mean, Student's t with {count - 1} degrees of freedom")
+          f"reference's mean, the differences combined as replica means ({count - 1} degrees of freedom)")
     print("| quantity | scope | reference | run - reference | differs | bound | per-pair differences | one window's half-width |")
     print("|---|---|---|---|---|---|---|---|")
     keys = [k for k in pairs[0][1] if all(k in r and k in p for _, r, p in pairs)]
     for key in keys:
         ref = np.array([r[key].mean for _, r, _ in pairs])
-        diff = np.array([p[key].mean for _, _, p in pairs]) - ref
+        differences = [pair_difference(r[key], p[key]) for _, r, p in pairs]
+        diff = np.array([d.mean for d in differences])
         scale = abs(float(ref.mean()))
         if not scale > 0 or not np.all(np.isfinite(diff)):
             continue
-        half = t * float(diff.std(ddof=1)) / math.sqrt(count)
-        mean = float(diff.mean())
+        combined = replica_means(differences)
+        mean, half = combined.mean, combined.half_width
         single = max(e[key].half_width for _, r, p in pairs for e in (r, p))
         per_pair = ", ".join(f"{d / scale:+.1%}" for d in diff)
         print(f"| {key[0]} | {key[1]} | {ref.mean():.4g} | {mean / scale:+.1%} ± {half / scale:.1%} | "
