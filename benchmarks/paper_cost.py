@@ -194,9 +194,12 @@ def prepare(work: Path, lmp: str, scale: str = "paper") -> dict[str, object]:
               "preparing it again", file=sys.stderr)
         shutil.rmtree(prepared)
     if not (prepared / "fill.in").exists():
-        subprocess.run([sys.executable, str(CASES / "run_case.py"), "periodic", "--scale", scale, "--out", str(prepared),
-                        "-v", "t_startup", "0", "-v", "t_sample", "1e-12"], check=True, capture_output=True, text=True,
-                       env=dict(os.environ, TSG_LMP=lmp))
+        done = subprocess.run([sys.executable, str(CASES / "run_case.py"), "periodic", "--scale", scale, "--out",
+                               str(prepared), "-v", "t_startup", "0", "-v", "t_sample", "1e-12"],
+                              capture_output=True, text=True, env=dict(os.environ, TSG_LMP=lmp))
+        if done.returncode != 0:
+            raise SystemExit(f"paper_cost.py: preparing {prepared} failed (exit {done.returncode}):\n"
+                             f"{done.stdout[-2000:]}\n{done.stderr[-2000:]}")
     log = (prepared / "log.lammps").read_text(errors="replace")
     fill = (prepared / "fill.in").read_text()
     try:
@@ -400,6 +403,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--collect", action="store_true",
                         help="run nothing: read the runs an earlier invocation with the same options left in --work")
     args = parser.parse_args(argv)
+    for option in ("lmp", "baseline_lmp"):  # every run changes directory: a path relative to here would not hold there
+        path = Path(getattr(args, option)).resolve()
+        if not (path.is_file() and os.access(path, os.X_OK)):
+            parser.error(f"--{option.replace('_', '-')} {getattr(args, option)} is not allowed: an executable lmp "
+                         f"({path} is not one)")
+        setattr(args, option, str(path))
     if args.steps % args.thermo_every:  # the guards' fix is computed every thermo_every steps; thermo prints the last step
         parser.error(f"--steps {args.steps} is not allowed: a multiple of --thermo-every {args.thermo_every}")
     work = args.work or Path(tempfile.mkdtemp(prefix="paper_cost_"))

@@ -317,3 +317,17 @@ def test_a_benchmark_prepared_by_an_older_tree_is_named_stale(tmp_path):
     (prepared / "lmp.vars").write_text("d_mean 0.001\ndt_fraction 0.20\nskin_fraction 0.2\nout_dir /x\n")
     assert paper_cost.stale_variables(prepared, "demo") == ""
     assert paper_cost.stale_variables(prepared, "paper") == "d_mean (0.001, not 0.0004), dt_fraction (0.20, not 0.1)"
+
+
+def test_a_benchmark_resolves_its_lmp_paths_and_names_a_missing_one(tmp_path, monkeypatch, capsys):
+    """paper_cost.py runs lmp from its work directories: a relative --lmp is made absolute before any
+    directory change, and a path that is no executable is an error naming the option and the value
+    (it was a silent exit 2 from the preparation)."""
+    import paper_cost
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as stopped:
+        paper_cost.main(["--baseline-lmp", "no/such/lmp", "--lmp", "no/such/lmp"])
+    assert stopped.value.code == 2
+    message = capsys.readouterr().err
+    assert "--lmp no/such/lmp is not allowed: an executable lmp" in message
+    assert str(tmp_path / "no" / "such" / "lmp") in message
