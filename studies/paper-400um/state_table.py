@@ -49,8 +49,11 @@ def row(point: Path, label: str, start: float | None = None, end: float | None =
     lost = re.search(r"ERROR: Lost atoms: (\d+) at the previous check.*?, (\d+) now", log)
     ledger = run.squeeze_ledger(start, end)
     release = ledger.release_speed_quantiles
-    outcome = (f"stopped at t = {end:.4f} s: lost atoms ({lost.group(1)} → {lost.group(2)}, out of the domain)" if lost
-               else "ran to the end, nothing lost" if "TSG-DONE" in log
+    run_end = float(chunks(run, None, None)[-1][0]["Time"][-1])
+    the_run = "ran to its end" if "TSG-DONE" in log else f"runs on to t = {run_end:.4f} s"
+    outcome = (f"the window ends inside the run ({the_run}): nothing lost in it" if end < run_end * (1 - 1e-12)
+               else f"stopped at t = {end:.4f} s: lost atoms ({lost.group(1)} → {lost.group(2)}, out of the domain)"
+               if lost else "ran to the end, nothing lost" if "TSG-DONE" in log
                else f"runs on: to t = {end:.4f} s, nothing lost, no stop")
     return (f"| {label} | {outcome} | {1e3 * (end - start):.1f} | {steps} | {1e3 * seconds / steps:.1f} | "
             f"{1e3 * builds / steps:.0f} | {seconds / (end - start) / 3600:.1f} | "
