@@ -71,6 +71,11 @@ def _row_durations(time: np.ndarray) -> np.ndarray:
     return np.diff(time, prepend=time[0] - (time[1] - time[0]) if len(time) > 1 else time[0])
 
 
+def row_middles(time: np.ndarray) -> np.ndarray:
+    """The middle of each row's interval, s: what the window rule places in a window."""
+    return time - 0.5 * _row_durations(time)
+
+
 def _span(record: MassFlowRecord) -> float:
     """Seconds the record covers (its first row covers an interval before its time)."""
     if len(record.time) == 0:
@@ -135,8 +140,7 @@ def sensor_flows(record: MassFlowRecord, start: float | None, end: float | None 
     """Mean flow (kg/h) of each sensor ± 95 % interval over the rows whose interval middle lies in
     (start, end] (all rows when start is None); rows are equal windows of the fix, so each counts once.
     Start-up detection runs on the whole record and is reported beside `start`."""
-    durations = _row_durations(record.time)
-    middle = record.time - 0.5 * durations
+    middle = row_middles(record.time)
     low = -np.inf if start is None else start
     high = np.inf if end is None else end
     rows = (middle > low) & (middle <= high)

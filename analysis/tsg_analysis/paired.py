@@ -1,0 +1,79 @@
+"""Two continuations of one state, compared sample by sample.
+
+A setting run from a kept state of the reference shares the reference's state at its start and the
+screws' angle at every instant: over the first part of a window both records carry the same slow
+fluctuations of the hold-up and the same forcing by the screws' phase. The difference of two window
+means with both windows' intervals (uncertainty.difference) counts that shared part twice; the
+difference series D(t) = run(t) − reference(t), sample by sample, cancels it, and its mean's interval
+(the one time-series estimator, uncertainty.estimate_mean, over D) is what is left: the two runs'
+own divergence. D is not stationary at its very start (it begins at 0 and grows while the runs
+decorrelate); its interval is then a little narrow, which the combination over several states
+(uncertainty.replica_means, Student's t over the states' mean differences) does not rely on alone.
+
+Per key quantity the series is the one whose plain mean is the window's estimate (Run.key_estimates):
+the block values for solid fraction and the domain flux, the ratio estimator's pseudo-values for the
+mass-weighted velocities and the hold-up residence times; the sensors' rows for their mass flow.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .massflow import SECONDS_PER_HOUR, row_middles
+from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION, SPEED, Key
+from .profiles import domain_flux
+from .run import Run
+from .run_files import AnalysisInputError
+from .uncertainty import Estimate, estimate_mean, ratio_pseudo_values
+
+SERIES_QUANTITIES = ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity"), (SPEED, "mean_speed"))
+
+
+def key_series(run: Run, start: float, end: float) -> tuple[np.ndarray, dict[Key, np.ndarray]]:
+    """The element blocks of [start, end] (the run's window rule): their end steps, and per key
+    quantity the per-block series whose mean is the window's estimate of it."""
+    used = run.blocks(start, end)
+    if used.sum() < 2:
+        raise AnalysisInputError(f"{run.path / 'elements.txt'}: fewer than 2 blocks between {start} s and {end} s")
+    stats, labels = run.elements, list(run.zones.labels)
+    mass = stats.column("mass")[used]
+    series: dict[Key, np.ndarray] = {(MASS_FLOW, DOMAIN_FLUX): domain_flux(stats, run.zones, used) * SECONDS_PER_HOUR}
+    for quantity, column in SERIES_QUANTITIES:
+        values = stats.column(column)[used]
+        for zone, label in enumerate(labels):
+            series[(quantity, label)] = (values[:, zone] if quantity == SOLID_FRACTION else
+                                         ratio_pseudo_values(mass[:, zone] * values[:, zone], mass[:, zone])[1])
+    return stats.timesteps[used], series
+
+
+def sensor_series(run: Run, start: float, end: float) -> tuple[np.ndarray, dict[Key, np.ndarray]]:
+    """The mass-flow rows of [start, end] (middle of the row's interval inside, massflow.sensor_flows'
+    rule): their steps, and each sensor's flow, kg/h."""
+    record = run.massflow
+    middle = row_middles(record.time)
+    rows = (middle > start) & (middle <= end)
+    return record.step[rows], {(MASS_FLOW, name): record.flow[rows, k] for k, name in enumerate(record.sensor_names)}
+
+
+def _aligned(reference: tuple[np.ndarray, dict[Key, np.ndarray]], run: tuple[np.ndarray, dict[Key, np.ndarray]],
+             what: str) -> dict[Key, tuple[np.ndarray, np.ndarray]]:
+    """The two records' values at their common steps (both runs write at the same steps from one
+    state); an error when they share fewer than 2."""
+    steps_a, values_a = reference
+    steps_b, values_b = run
+    common = np.intersect1d(steps_a, steps_b)
+    if len(common) < 2:
+        raise AnalysisInputError(f"the two runs share {len(common)} {what} in the window: not two continuations "
+                                 "of one state written at the same steps")
+    in_a, in_b = np.isin(steps_a, common), np.isin(steps_b, common)
+    return {key: (values_a[key][in_a], values_b[key][in_b]) for key in values_a if key in values_b}
+
+
+def paired_differences(reference: Run, run: Run, start: float, end: float) -> dict[Key, Estimate]:
+    """run − reference over [start, end] per key quantity: the mean of the difference series and its
+    95 % interval from the series' own autocorrelation (uncertainty.estimate_mean)."""
+    found: dict[Key, Estimate] = {}
+    for pairs in (_aligned(key_series(reference, start, end), key_series(run, start, end), "element blocks"),
+                  _aligned(sensor_series(reference, start, end), sensor_series(run, start, end), "mass-flow rows")):
+        for key, (values_a, values_b) in pairs.items():
+            found[key] = estimate_mean(values_b - values_a, detect=False)
+    return found

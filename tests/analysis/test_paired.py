@@ -1,0 +1,105 @@
+"""Two continuations of one state compared sample by sample (tsg_analysis.paired): the series are the
+ones whose means are the window's estimates, the runs are aligned by step, and a fluctuation both
+runs share cancels from the difference while the interval still covers the true offset."""
+import math
+import shutil
+
+import numpy as np
+import pytest
+from make_fixture import write_run
+
+from tsg_analysis.model import SOLID_FRACTION
+from tsg_analysis.paired import key_series, paired_differences, sensor_series
+from tsg_analysis.run import Run
+from tsg_analysis.run_files import AnalysisInputError
+from tsg_analysis.uncertainty import difference
+
+START, END = 1.3, 1.9  # s: inside the fixture's steady record (1.2-2.0 s)
+ZONE = 3  # the element whose solid fraction the tests change (row 3: the second kneading element)
+
+
+def test_each_series_mean_is_the_windows_estimate(periodic_run):
+    path, _ = periodic_run
+    run = Run(path)
+    _, series = key_series(run, START, END)
+    estimates = run.key_estimates(START, END)
+    assert set(series) == {key for key in estimates if key[0] != "residence time (records)"}
+    for key, values in series.items():
+        assert values.mean() == pytest.approx(estimates[key].mean, rel=1e-12, abs=1e-15), key
+    _, flows = sensor_series(run, START, END)
+    sensors = run.sensor_flows(START, END)
+    assert {name for _, name in flows} == set(sensors)
+    for (_, name), values in flows.items():
+        assert values.mean() == pytest.approx(sensors[name].mean, rel=1e-12), name
+
+
+def _rewrite_solid_fraction(path, change) -> None:
+    """elements.txt with row ZONE's solid fraction replaced by change(block index, old value)."""
+    lines = (path / "elements.txt").read_text().splitlines()
+    block = -1
+    for n, line in enumerate(lines):
+        fields = line.split()
+        if line.startswith("#"):
+            continue
+        if len(fields) == 2:
+            block += 1
+        elif int(fields[0]) == ZONE:
+            fields[1] = repr(float(change(block, float(fields[1]))))
+            lines[n] = " ".join(fields)
+    (path / "elements.txt").write_text("\n".join(lines) + "\n")
+
+
+def _drop_first_block(path) -> None:
+    lines = (path / "elements.txt").read_text().splitlines()
+    header = [line for line in lines if line.startswith("#")]
+    body = [line for line in lines if not line.startswith("#")]
+    rows = int(body[0].split()[1]) + 1
+    (path / "elements.txt").write_text("\n".join(header + body[rows:]) + "\n")
+
+
+@pytest.fixture()
+def two_continuations(tmp_path):
+    reference, other = tmp_path / "reference", tmp_path / "setting"
+    write_run(reference, kind="periodic", dumps=None, meshes=False, seed=7)
+    shutil.copytree(reference, other)
+    return reference, other
+
+
+def test_a_shared_fluctuation_cancels_and_an_offset_is_found(two_continuations):
+    """Both runs carry one large slow fluctuation (the screws' phase and the state they share), each its
+    own small noise (sd 0.002), the setting an offset of +0.004 on one element: the paired interval
+    covers the offset, has the width independent noise alone gives (t sd sqrt(2/n)), and is many times
+    narrower than the difference of the two windows' own intervals."""
+    reference, other = two_continuations
+    rng = np.random.default_rng(11)
+    blocks = 100
+    shared = 0.05 * np.sin(2 * np.pi * np.arange(blocks) / 13.0) + np.cumsum(rng.normal(0, 0.004, blocks))
+    noise = rng.normal(0, 0.002, (2, blocks))
+    _rewrite_solid_fraction(reference, lambda k, value: value + shared[k] + noise[0, k])
+    _rewrite_solid_fraction(other, lambda k, value: value + shared[k] + noise[1, k] + 0.004)
+    _drop_first_block(other)  # aligned by step: a block only one run has is left out
+    runs = Run(reference), Run(other)
+    label = runs[0].zones.labels[ZONE - 1]
+    paired = paired_differences(*runs, START, END)[(SOLID_FRACTION, label)]
+    assert abs(paired.mean - 0.004) <= paired.half_width
+    independent_only = 1.96 * 0.002 * math.sqrt(2 / paired.samples)
+    assert 0.6 * independent_only < paired.half_width < 1.6 * independent_only
+    unpaired = difference(runs[0].key_estimates(START, END)[(SOLID_FRACTION, label)],
+                          runs[1].key_estimates(START, END)[(SOLID_FRACTION, label)])
+    assert unpaired.half_width > 5 * paired.half_width
+    # every other element is the same in both runs: exactly no difference
+    for (quantity, scope), estimate in paired_differences(*runs, START, END).items():
+        if (quantity, scope) != (SOLID_FRACTION, label) and quantity == SOLID_FRACTION:
+            assert estimate.mean == 0.0 and estimate.half_width == 0.0
+
+
+def test_runs_written_at_other_steps_are_refused(two_continuations):
+    """Two records that share no block are not two continuations of one state: an error, not a
+    comparison of unrelated samples."""
+    reference, other = two_continuations
+    lines = (other / "elements.txt").read_text().splitlines()
+    shifted = [f"{int(line.split()[0]) + 1} {line.split()[1]}" if not line.startswith("#") and len(line.split()) == 2
+               else line for line in lines]
+    (other / "elements.txt").write_text("\n".join(shifted) + "\n")
+    with pytest.raises(AnalysisInputError, match="share 0 element blocks"):
+        paired_differences(Run(reference), Run(other), START, END)
