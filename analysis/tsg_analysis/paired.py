@@ -16,6 +16,10 @@ mass-weighted velocities and the hold-up residence times; the sensors' rows for 
 """
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
 import numpy as np
 
 from .massflow import SECONDS_PER_HOUR, row_middles
@@ -23,7 +27,7 @@ from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION, SPEED
 from .profiles import domain_flux
 from .run import Run
 from .run_files import AnalysisInputError
-from .uncertainty import Estimate, estimate_mean, ratio_pseudo_values
+from .uncertainty import Estimate, estimate_mean, ratio_pseudo_values, replica_means
 
 SERIES_QUANTITIES = ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity"), (SPEED, "mean_speed"))
 
@@ -77,3 +81,63 @@ def paired_differences(reference: Run, run: Run, start: float, end: float) -> di
         for key, (values_a, values_b) in pairs.items():
             found[key] = estimate_mean(values_b - values_a, detect=False)
     return found
+
+
+def continued_from(run: Run) -> float:
+    """The time a run continues its kept state from (its t_startup: a run from a state starts there)."""
+    value = run.parameters.variables.get("t_startup")
+    if value is None:
+        raise AnalysisInputError(f"{run.path}: no t_startup in its parameters: not a run continued from a state")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class PairedRow:
+    """One key quantity of a setting against the reference over R states, each compared in its own window."""
+
+    key: Key
+    reference: float  # the reference's mean over the R windows
+    difference: Estimate  # run − reference, the R states' paired differences as replica means
+    per_state: tuple[float, ...]  # each state's paired difference
+    state_half_width: float  # the widest 95 % half-width of one state's difference series
+    window_half_width: float  # the widest 95 % half-width of one window on its own (unpaired)
+    second_half: float  # the mean paired difference over the windows' second halves
+
+    @property
+    def bound(self) -> float:
+        """|difference| + half-width, relative to the reference: within a tolerance when this is."""
+        return (abs(self.difference.mean) + self.difference.half_width) / abs(self.reference)
+
+
+def _window_estimates(run: Run, start: float, end: float) -> dict[Key, Estimate]:
+    found = dict(run.key_estimates(start, end))
+    found.update({(MASS_FLOW, name): e for name, e in run.sensor_flows(start, end).items()})
+    return found
+
+
+def paired_study(reference: Run, runs: Sequence[Run], length: float) -> list[PairedRow]:
+    """Each run continues a state of `reference` (its t_startup) for `length` s; per key quantity, the
+    paired differences of the states combined with uncertainty.replica_means (Student's t over the
+    states, never narrower than the difference series' own noise)."""
+    if len(runs) < 2:
+        raise AnalysisInputError(f"{len(runs)} state(s): a paired interval needs 2 or more")
+    states = []
+    for run in runs:
+        start = continued_from(run)
+        end = start + length
+        states.append((_window_estimates(reference, start, end), _window_estimates(run, start, end),
+                       paired_differences(reference, run, start, end),
+                       paired_differences(reference, run, start + length / 2, end)))
+    rows = []
+    for key in states[0][0]:
+        if not all(key in own and key in other and key in paired for own, other, paired, _ in states):
+            continue
+        means = np.array([own[key].mean for own, *_ in states])
+        differences = [paired[key] for _, _, paired, _ in states]
+        if not abs(means.mean()) > 0 or not all(math.isfinite(d.mean) for d in differences):
+            continue
+        rows.append(PairedRow(key, float(means.mean()), replica_means(differences),
+                              tuple(d.mean for d in differences), max(d.half_width for d in differences),
+                              max(e[key].half_width for own, other, *_ in states for e in (own, other)),
+                              float(np.mean([later[key].mean for *_, later in states]))))
+    return rows

@@ -16,9 +16,13 @@ import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .parameters import RunParameters
 from .run_files import AnalysisInputError
+
+if TYPE_CHECKING:
+    from .paired import PairedRow
 
 REGISTRY = Path(__file__).with_name("systematics.json")
 SETTINGS = {"dt_fraction": "time step", "mesh_tolerance": "mesh tolerance", "d_mean": "mean diameter"}
@@ -76,6 +80,28 @@ def from_accuracy(study_dir: Path, name: str, window: str, where: str | None = N
                                   worst["relative_bound"], bool(worst["significant"])))
     if not found:
         raise AnalysisInputError(f"{path}: no finished point of {', '.join(SETTINGS)} with errors")
+    return found
+
+
+def from_paired(rows: Sequence[PairedRow], parameters: RunParameters, name: str, where: str, window: str,
+                setting: str, value: str) -> list[Measured]:
+    """A paired study's rows (tsg_analysis.paired.paired_study: a setting against the reference, state by
+    state) at the worst scope of each quantity; the reference's value of the setting from its parameters."""
+    if setting not in SETTINGS:
+        raise AnalysisInputError(f"setting {setting!r} is not allowed: one of {', '.join(SETTINGS)}")
+    reference = run_settings(parameters)[setting]
+    if reference is None:
+        raise AnalysisInputError(f"the reference's parameters do not record {setting}")
+    found = []
+    for quantity in dict.fromkeys(row.key[0] for row in rows):
+        worst = max((row for row in rows if row.key[0] == quantity), key=lambda row: row.bound)
+        scale = abs(worst.reference)
+        difference = worst.difference
+        found.append(Measured(name, where, window, parameters.case, parameters.scale, setting, f"{reference:g}", value,
+                              quantity, worst.key[1], difference.mean / scale, difference.half_width / scale,
+                              worst.bound, bool(abs(difference.mean) > difference.half_width)))
+    if not found:
+        raise AnalysisInputError(f"study {name}: no paired rows")
     return found
 
 

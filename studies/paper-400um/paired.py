@@ -6,7 +6,12 @@ they start from and the screws' phase). The R states' differences are combined a
 (uncertainty.replica_means: Student's t with R - 1 degrees of freedom, never narrower than the
 difference series' own fluctuation allows).
 
-    LC_ALL=C.UTF-8 .venv/bin/python studies/paper-400um/paired.py REFERENCE WINDOW RUN...
+    LC_ALL=C.UTF-8 .venv/bin/python studies/paper-400um/paired.py REFERENCE WINDOW RUN... \
+        [--systematics NAME --setting SETTING --value VALUE --where DIR --window-text TEXT]
+
+With --systematics the worst scope of each quantity goes to the registry the runner's summary and the
+report quote (tsg_analysis/systematics.json; SETTING one of its settings, e.g. dt_fraction, VALUE the
+runs' value of it, the reference's own read from its parameters).
 
 Per key quantity (mass flow at the sensors and through the domain, per-element solid fraction, axial
 velocity and speed): the reference's mean over the R windows, the run's mean paired difference +- its 95 %
@@ -20,71 +25,49 @@ window, which then understates where the difference is going).
 """
 from __future__ import annotations
 
-import sys
+import argparse
 
-import numpy as np
-
-from tsg_analysis.model import MASS_FLOW
-from tsg_analysis.paired import paired_differences
+from tsg_analysis import systematics
+from tsg_analysis.paired import continued_from, paired_study
 from tsg_analysis.run import Run
-from tsg_analysis.uncertainty import Estimate, replica_means
 
 
-def start_time(run: Run) -> float:
-    """The time the run continues its state from: its t_startup (a run from a state starts there)."""
-    value = run.parameters.variables.get("t_startup")
-    if value is None:
-        raise SystemExit(f"{run.path}: no t_startup in its parameters: not a run continued from a state")
-    return float(value)
-
-
-def estimates(run: Run, start: float, end: float) -> dict[tuple[str, str], Estimate]:
-    found = {(str(k[0]), str(k[1])): e for k, e in run.key_estimates(start, end).items()}
-    found.update({(MASS_FLOW, name): e for name, e in run.sensor_flows(start, end).items()})
-    return found
-
-
-def main(reference_dir: str, window: str, run_dirs: list[str]) -> None:
-    if len(run_dirs) < 2:
-        raise SystemExit("give at least 2 runs (states): a paired interval needs 2 pairs or more")
-    length = float(window)
-    reference = Run(reference_dir)
-    pairs = []
-    for path in run_dirs:
-        run = Run(path)
-        start = start_time(run)
-        end = start + length
-        pairs.append((start, estimates(reference, start, end), estimates(run, start, end),
-                      paired_differences(reference, run, start, end)))
-    count = len(pairs)
-    later_halves = [(start, paired_differences(reference, Run(path), start + length / 2, start + length))
-                    for path, (start, *_) in zip(run_dirs, pairs)]
-    print(f"{' + '.join(str(p) for p in run_dirs)} against {reference_dir}: {count} states "
-          f"({', '.join(f'{s:.4f}' for s, *_ in pairs)} s), {length:g} s each; 95 % half-widths relative to the "
-          f"reference's mean, the differences combined as replica means ({count - 1} degrees of freedom)")
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("reference", help="the reference run (its states were kept from it)")
+    parser.add_argument("window", type=float, help="s each state is compared over, from its start")
+    parser.add_argument("runs", nargs="+", help="the setting's runs, one per state")
+    parser.add_argument("--systematics", metavar="NAME", help="also add the rows to the systematics registry")
+    parser.add_argument("--setting", choices=sorted(systematics.SETTINGS))
+    parser.add_argument("--value", help="the runs' value of --setting")
+    parser.add_argument("--where", help="the study's folder, as the registry names it")
+    parser.add_argument("--window-text", help="how the study sampled, as the registry says it")
+    args = parser.parse_args()
+    reference = Run(args.reference)
+    runs = [Run(path) for path in args.runs]
+    rows = paired_study(reference, runs, args.window)
+    starts = ", ".join(f"{continued_from(r):.4f}" for r in runs)
+    print(f"{' + '.join(args.runs)} against {args.reference}: {len(runs)} states ({starts} s), {args.window:g} s "
+          f"each; 95 % half-widths relative to the reference's mean, the differences combined as replica means "
+          f"({len(runs) - 1} degrees of freedom)")
     print("| quantity | scope | reference | run - reference | differs | bound | per-state differences | "
           "one state's paired half-width | one window's half-width | second half: run - reference |")
     print("|---|---|---|---|---|---|---|---|---|---|")
-    keys = [k for k in pairs[0][1] if all(k in r and k in p and k in d for _, r, p, d in pairs)]
-    for key in keys:
-        ref = np.array([r[key].mean for _, r, _, _ in pairs])
-        differences = [d[key] for *_, d in pairs]
-        diff = np.array([d.mean for d in differences])
-        scale = abs(float(ref.mean()))
-        if not scale > 0 or not np.all(np.isfinite(diff)):
-            continue
-        combined = replica_means(differences)
-        mean, half = combined.mean, combined.half_width
-        single = max(e[key].half_width for _, r, p, _ in pairs for e in (r, p))
-        paired_single = max(d.half_width for d in differences)
-        later = float(np.mean([d[key].mean for *_, d in later_halves]))
-        per_pair = ", ".join(f"{d / scale:+.1%}" for d in diff)
-        print(f"| {key[0]} | {key[1]} | {ref.mean():.4g} | {mean / scale:+.1%} ± {half / scale:.1%} | "
-              f"{'yes' if abs(mean) > half else 'no'} | {(abs(mean) + half) / scale:.1%} | {per_pair} | "
-              f"{paired_single / scale:.1%} | {single / scale:.1%} | {later / scale:+.1%} |")
+    for row in rows:
+        scale = abs(row.reference)
+        d = row.difference
+        print(f"| {row.key[0]} | {row.key[1]} | {row.reference:.4g} | {d.mean / scale:+.1%} ± {d.half_width / scale:.1%} | "
+              f"{'yes' if abs(d.mean) > d.half_width else 'no'} | {row.bound:.1%} | "
+              f"{', '.join(f'{x / scale:+.1%}' for x in row.per_state)} | {row.state_half_width / scale:.1%} | "
+              f"{row.window_half_width / scale:.1%} | {row.second_half / scale:+.1%} |")
+    if args.systematics:
+        if not (args.setting and args.value and args.where and args.window_text):
+            parser.error("--systematics needs --setting, --value, --where and --window-text")
+        entries = systematics.from_paired(rows, reference.parameters, args.systematics, args.where, args.window_text,
+                                          args.setting, args.value)
+        systematics.add(entries)
+        print(f"{systematics.REGISTRY}: study {args.systematics}, {len(entries)} entries")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 4:
-        raise SystemExit(__doc__)
-    main(sys.argv[1], sys.argv[2], sys.argv[3:])
+    main()

@@ -1,6 +1,7 @@
 """Two continuations of one state compared sample by sample (tsg_analysis.paired): the series are the
 ones whose means are the window's estimates, the runs are aligned by step, and a fluctuation both
 runs share cancels from the difference while the interval still covers the true offset."""
+import json
 import math
 import shutil
 
@@ -8,8 +9,9 @@ import numpy as np
 import pytest
 from make_fixture import write_run
 
+from tsg_analysis import systematics
 from tsg_analysis.model import SOLID_FRACTION
-from tsg_analysis.paired import key_series, paired_differences, sensor_series
+from tsg_analysis.paired import key_series, paired_differences, paired_study, sensor_series
 from tsg_analysis.run import Run
 from tsg_analysis.run_files import AnalysisInputError
 from tsg_analysis.uncertainty import difference
@@ -103,3 +105,45 @@ def test_runs_written_at_other_steps_are_refused(two_continuations):
     (other / "elements.txt").write_text("\n".join(shifted) + "\n")
     with pytest.raises(AnalysisInputError, match="share 0 element blocks"):
         paired_differences(Run(reference), Run(other), START, END)
+
+
+def _set_variables(path, **variables) -> None:
+    params = json.loads((path / "params.json").read_text())
+    params["variables"].update({k: str(v) for k, v in variables.items()})
+    (path / "params.json").write_text(json.dumps(params))
+
+
+def test_a_study_over_states_and_its_registry_entries(tmp_path):
+    """Three states: each run carries the reference's shared fluctuation, its own noise and the same
+    offset +0.004 on one element. The study combines the three paired differences (Student's t, 2
+    degrees of freedom) and finds the offset within its interval; the registry entry for solid fraction
+    names that element as the worst scope, the setting's two values and its bound."""
+    reference = tmp_path / "reference"
+    write_run(reference, kind="periodic", dumps=None, meshes=False, seed=7)
+    rng = np.random.default_rng(5)
+    shared = 0.03 * np.sin(np.arange(100) / 3.0)
+    _rewrite_solid_fraction(reference, lambda k, value: value + shared[k])
+    _set_variables(reference, dt_fraction=0.1)
+    runs = []
+    for state in range(3):
+        run = tmp_path / f"state-{state}"
+        shutil.copytree(reference, run)
+        noise = rng.normal(0, 0.002, 100)
+        _rewrite_solid_fraction(run, lambda k, value, noise=noise: value + noise[k] + 0.004)
+        _set_variables(run, dt_fraction=0.2, t_startup=START)
+        runs.append(Run(run))
+    rows = paired_study(Run(reference), runs, END - START)
+    label = runs[0].zones.labels[ZONE - 1]
+    row = next(r for r in rows if r.key == (SOLID_FRACTION, label))
+    assert row.difference.replicas == 3 and row.difference.method == "replica means"
+    assert abs(row.difference.mean - 0.004) <= row.difference.half_width
+    assert row.bound == pytest.approx((abs(row.difference.mean) + row.difference.half_width) / abs(row.reference))
+    assert len(row.per_state) == 3
+    entries = systematics.from_paired(rows, Run(reference).parameters, "test-study", "studies/x", "3 states x 0.6 s",
+                                      "dt_fraction", "0.2")
+    solid = next(e for e in entries if e.quantity == SOLID_FRACTION)
+    assert (solid.scope, solid.reference, solid.value, solid.setting) == (label, "0.1", "0.2", "dt_fraction")
+    assert solid.relative_bound == pytest.approx(row.bound)
+    assert {e.quantity for e in entries} == {r.key[0] for r in rows}
+    with pytest.raises(AnalysisInputError, match="'rpm' is not allowed"):
+        systematics.from_paired(rows, Run(reference).parameters, "x", "y", "z", "rpm", "1")
