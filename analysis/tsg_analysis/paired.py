@@ -12,7 +12,8 @@ decorrelate); its interval is then a little narrow, which the combination over s
 
 Per key quantity the series is the one whose plain mean is the window's estimate (Run.key_estimates):
 the block values for solid fraction and the domain flux, the ratio estimator's pseudo-values for the
-mass-weighted velocities and the hold-up residence times; the sensors' rows for their mass flow.
+mass-weighted velocities; the sensors' rows for their mass flow. The records are paired by time, not
+by step: a run at another time step writes its samples at other times (_aligned).
 """
 from __future__ import annotations
 
@@ -32,13 +33,17 @@ from .uncertainty import Estimate, estimate_mean, ratio_pseudo_values, replica_m
 SERIES_QUANTITIES = ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity"), (SPEED, "mean_speed"))
 
 
-def key_series(run: Run, start: float, end: float) -> tuple[np.ndarray, dict[Key, np.ndarray]]:
-    """The element blocks of [start, end] (the run's window rule): their end steps, and per key
-    quantity the per-block series whose mean is the window's estimate of it."""
+Record = tuple[np.ndarray, float, dict[Key, np.ndarray]]  # sample end times (s), sample length (s), series
+
+
+def key_series(run: Run, start: float, end: float) -> Record:
+    """The element blocks of [start, end] (the run's window rule): their end times, their length, and
+    per key quantity the per-block series whose mean is the window's estimate of it."""
     used = run.blocks(start, end)
     if used.sum() < 2:
         raise AnalysisInputError(f"{run.path / 'elements.txt'}: fewer than 2 blocks between {start} s and {end} s")
     stats, labels = run.elements, list(run.zones.labels)
+    begins, ends = run.block_times
     mass = stats.column("mass")[used]
     series: dict[Key, np.ndarray] = {(MASS_FLOW, DOMAIN_FLUX): domain_flux(stats, run.zones, used) * SECONDS_PER_HOUR}
     for quantity, column in SERIES_QUANTITIES:
@@ -46,30 +51,52 @@ def key_series(run: Run, start: float, end: float) -> tuple[np.ndarray, dict[Key
         for zone, label in enumerate(labels):
             series[(quantity, label)] = (values[:, zone] if quantity == SOLID_FRACTION else
                                          ratio_pseudo_values(mass[:, zone] * values[:, zone], mass[:, zone])[1])
-    return stats.timesteps[used], series
+    return ends[used], float(np.median(ends - begins)), series
 
 
-def sensor_series(run: Run, start: float, end: float) -> tuple[np.ndarray, dict[Key, np.ndarray]]:
+def sensor_series(run: Run, start: float, end: float) -> Record:
     """The mass-flow rows of [start, end] (middle of the row's interval inside, massflow.sensor_flows'
-    rule): their steps, and each sensor's flow, kg/h."""
+    rule): their end times, their length, and each sensor's flow, kg/h."""
     record = run.massflow
     middle = row_middles(record.time)
     rows = (middle > start) & (middle <= end)
-    return record.step[rows], {(MASS_FLOW, name): record.flow[rows, k] for k, name in enumerate(record.sensor_names)}
+    length = float(np.median(2 * (record.time - middle)))
+    return record.time[rows], length, {(MASS_FLOW, name): record.flow[rows, k] for k, name in enumerate(record.sensor_names)}
 
 
-def _aligned(reference: tuple[np.ndarray, dict[Key, np.ndarray]], run: tuple[np.ndarray, dict[Key, np.ndarray]],
-             what: str) -> dict[Key, tuple[np.ndarray, np.ndarray]]:
-    """The two records' values at their common steps (both runs write at the same steps from one
-    state); an error when they share fewer than 2."""
-    steps_a, values_a = reference
-    steps_b, values_b = run
-    common = np.intersect1d(steps_a, steps_b)
-    if len(common) < 2:
-        raise AnalysisInputError(f"the two runs share {len(common)} {what} in the window: not two continuations "
-                                 "of one state written at the same steps")
-    in_a, in_b = np.isin(steps_a, common), np.isin(steps_b, common)
-    return {key: (values_a[key][in_a], values_b[key][in_b]) for key in values_a if key in values_b}
+def _aligned(reference: Record, run: Record, what: str) -> dict[Key, tuple[np.ndarray, np.ndarray]]:
+    """The two records on common samples of time. Two continuations of one state at one time step write
+    the same samples; at another time step (a time-step study: samples every N steps) one record's
+    samples are k times as long, and the shorter ones are averaged over each longer one they tile
+    (equal lengths: the mean of their values is the value over the longer interval; for pseudo-values
+    it keeps the window's mean). A longer sample not tiled exactly by k shorter ones is left out; an
+    error when fewer than 2 are left."""
+    length_a, length_b = reference[1], run[1]
+    run_is_coarse = length_b > length_a  # coarse: the record with the longer samples
+    (ends_c, length_c, coarse), (ends_f, length_f, fine) = (run, reference) if run_is_coarse else (reference, run)
+    ratio = length_c / length_f
+    per = int(round(ratio))
+    tolerance = 0.25 * length_f
+    if per < 1 or abs(ratio - per) * length_f > tolerance:
+        raise AnalysisInputError(f"{what}: samples of {length_a:.4g} s and {length_b:.4g} s: the longer is not a whole "
+                                 "number of the shorter, so they cannot be compared sample by sample")
+    keep_c, groups = [], []
+    for k, end in enumerate(ends_c):
+        inside = np.flatnonzero((ends_f > end - length_c + tolerance) & (ends_f <= end + tolerance))
+        if len(inside) == per and abs(ends_f[inside[-1]] - end) <= tolerance:
+            keep_c.append(k)
+            groups.append(inside)
+    if len(keep_c) < 2:
+        raise AnalysisInputError(f"the two runs share {len(keep_c)} {what} in the window: not two continuations of one "
+                                 "state written at the same times")
+    pairs = {}
+    for key in coarse:
+        if key not in fine:
+            continue
+        on_coarse = coarse[key][keep_c]
+        on_fine = np.array([fine[key][group].mean() for group in groups])
+        pairs[key] = (on_fine, on_coarse) if run_is_coarse else (on_coarse, on_fine)
+    return pairs
 
 
 def paired_differences(reference: Run, run: Run, start: float, end: float) -> dict[Key, Estimate]:

@@ -23,12 +23,12 @@ ZONE = 3  # the element whose solid fraction the tests change (row 3: the second
 def test_each_series_mean_is_the_windows_estimate(periodic_run):
     path, _ = periodic_run
     run = Run(path)
-    _, series = key_series(run, START, END)
+    _, _, series = key_series(run, START, END)
     estimates = run.key_estimates(START, END)
     assert set(series) == {key for key in estimates if key[0] != "residence time (records)"}
     for key, values in series.items():
         assert values.mean() == pytest.approx(estimates[key].mean, rel=1e-12, abs=1e-15), key
-    _, flows = sensor_series(run, START, END)
+    _, _, flows = sensor_series(run, START, END)
     sensors = run.sensor_flows(START, END)
     assert {name for _, name in flows} == set(sensors)
     for (_, name), values in flows.items():
@@ -95,16 +95,47 @@ def test_a_shared_fluctuation_cancels_and_an_offset_is_found(two_continuations):
             assert estimate.mean == 0.0 and estimate.half_width == 0.0
 
 
-def test_runs_written_at_other_steps_are_refused(two_continuations):
-    """Two records that share no block are not two continuations of one state: an error, not a
-    comparison of unrelated samples."""
+def _stamp_blocks(path, change) -> None:
+    """elements.txt with each block's step replaced by change(step)."""
+    lines = (path / "elements.txt").read_text().splitlines()
+    (path / "elements.txt").write_text("\n".join(
+        f"{change(int(line.split()[0]))} {line.split()[1]}" if not line.startswith("#") and len(line.split()) == 2
+        else line for line in lines) + "\n")
+
+
+def test_records_at_other_times_are_refused(two_continuations):
+    """Blocks half a block later than the reference's are not samples of the same times: an error, not a
+    comparison of unrelated samples. One step later (rounding of a block's stamp) still pairs."""
     reference, other = two_continuations
-    lines = (other / "elements.txt").read_text().splitlines()
-    shifted = [f"{int(line.split()[0]) + 1} {line.split()[1]}" if not line.startswith("#") and len(line.split()) == 2
-               else line for line in lines]
-    (other / "elements.txt").write_text("\n".join(shifted) + "\n")
+    _stamp_blocks(other, lambda step: step + 1)
+    assert paired_differences(Run(reference), Run(other), START, END)
+    _stamp_blocks(other, lambda step: step - 1 + 10000)  # blocks every 20 000 steps: half a block later
     with pytest.raises(AnalysisInputError, match="share 0 element blocks"):
         paired_differences(Run(reference), Run(other), START, END)
+
+
+def test_a_run_at_another_time_step_pairs_on_its_longer_blocks(two_continuations):
+    """A time-step study: the setting's run writes every N steps at twice the step, so each of its
+    blocks covers two of the reference's. Written from the same underlying values (the setting's
+    block: the mean of the reference's two, one offset on one element), the paired difference is that
+    offset exactly, on every quantity, with the reference's pairs of blocks averaged."""
+    reference, other = two_continuations
+    rng = np.random.default_rng(3)
+    values = 0.10 + rng.normal(0, 0.01, 100)
+    _rewrite_solid_fraction(reference, lambda k, value: values[k])
+    _rewrite_solid_fraction(other, lambda k, value: 0.5 * (values[k - k % 2] + values[k - k % 2 + 1]) + 0.003)
+    lines = (other / "elements.txt").read_text().splitlines()
+    header = [line for line in lines if line.startswith("#")]
+    body = [line for line in lines if not line.startswith("#")]
+    rows = int(body[0].split()[1]) + 1
+    blocks = [body[k:k + rows] for k in range(0, len(body), rows)]
+    (other / "elements.txt").write_text("\n".join(header + [line for block in blocks[1::2] for line in block]) + "\n")
+    runs = Run(reference), Run(other)
+    label = runs[0].zones.labels[ZONE - 1]
+    found = paired_differences(*runs, START, END)
+    assert found[(SOLID_FRACTION, label)].mean == pytest.approx(0.003, abs=1e-12)
+    assert found[(SOLID_FRACTION, label)].half_width == pytest.approx(0.0, abs=1e-12)
+    assert found[(SOLID_FRACTION, runs[0].zones.labels[0])].mean == pytest.approx(0.0, abs=1e-15)
 
 
 def _set_variables(path, **variables) -> None:
