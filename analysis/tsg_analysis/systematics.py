@@ -90,14 +90,15 @@ def from_paired(rows: Sequence[PairedRow], parameters: RunParameters, name: str,
     if setting not in SETTINGS:
         raise AnalysisInputError(f"setting {setting!r} is not allowed: one of {', '.join(SETTINGS)}")
     reference = run_settings(parameters)[setting]
-    if reference is None:
-        raise AnalysisInputError(f"the reference's parameters do not record {setting}")
+    if reference is None or parameters.case is None or parameters.scale is None:
+        raise AnalysisInputError(f"the reference's parameters do not record its case, scale and {setting}")
+    case, run_scale = parameters.case, parameters.scale
     found = []
     for quantity in dict.fromkeys(row.key[0] for row in rows):
         worst = max((row for row in rows if row.key[0] == quantity), key=lambda row: row.bound)
         scale = abs(worst.reference)
         difference = worst.difference
-        found.append(Measured(name, where, window, parameters.case, parameters.scale, setting, f"{reference:g}", value,
+        found.append(Measured(name, where, window, case, run_scale, setting, f"{reference:g}", value,
                               quantity, worst.key[1], difference.mean / scale, difference.half_width / scale,
                               worst.bound, bool(abs(difference.mean) > difference.half_width)))
     if not found:
