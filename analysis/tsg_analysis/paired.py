@@ -24,14 +24,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .massflow import SECONDS_PER_HOUR, row_middles
-from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION, SPEED, Key
+from .model import DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION, Key
 from .profiles import domain_flux
-from .run import Run
+from .run import ELEMENT_QUANTITIES, Run
 from .run_files import AnalysisInputError
 from .uncertainty import Estimate, estimate_mean, ratio_pseudo_values, replica_means
-
-SERIES_QUANTITIES = ((SOLID_FRACTION, "solid_fraction"), (AXIAL_VELOCITY, "mean_axial_velocity"), (SPEED, "mean_speed"))
-
 
 Record = tuple[np.ndarray, float, dict[Key, np.ndarray]]  # sample end times (s), sample length (s), series
 
@@ -46,7 +43,7 @@ def key_series(run: Run, start: float, end: float) -> Record:
     begins, ends = run.block_times
     mass = stats.column("mass")[used]
     series: dict[Key, np.ndarray] = {(MASS_FLOW, DOMAIN_FLUX): domain_flux(stats, run.zones, used) * SECONDS_PER_HOUR}
-    for quantity, column in SERIES_QUANTITIES:
+    for quantity, column in ELEMENT_QUANTITIES:
         values = stats.column(column)[used]
         for zone, label in enumerate(labels):
             series[(quantity, label)] = (values[:, zone] if quantity == SOLID_FRACTION else
