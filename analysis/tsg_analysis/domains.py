@@ -43,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .massflow import SECONDS_PER_HOUR
 from .model import AXIAL_VELOCITY, DOMAIN_FLUX, MASS_FLOW, SOLID_FRACTION, SPEED
 from .rtd import AGREEMENT_KS_DISTANCE, MIN_RECORDS, RTDComparison, compare_rtds, mean_residence
 from .run import Run
@@ -60,7 +61,6 @@ from .uncertainty import (
     statistical_inefficiency,
 )
 
-SECONDS_PER_HOUR = 3600.0
 TIME_PER_PASSAGE = "time per passage"                 # from the residence records
 TIME_BY_BALANCE = "time per passage, hold-up / flux"  # Little's law on the element statistics
 RECORD_HORIZON = 3.0  # record times after the first entry; a Gamma(2)-distributed time exceeds 3 means with 1.7 %

@@ -122,8 +122,7 @@ class PairedRow:
     key: Key
     reference: float  # the reference's mean over the R windows
     difference: Estimate  # run − reference, the R states' paired differences as replica means
-    per_state: tuple[float, ...]  # each state's paired difference
-    state_half_width: float  # the widest 95 % half-width of one state's difference series
+    per_state: tuple[Estimate, ...]  # each state's paired difference, its interval from its own series
     window_half_width: float  # the widest 95 % half-width of one window on its own (unpaired)
     second_half: float  # the mean paired difference over the windows' second halves
 
@@ -131,6 +130,17 @@ class PairedRow:
     def bound(self) -> float:
         """|difference| + half-width, relative to the reference: within a tolerance when this is."""
         return (abs(self.difference.mean) + self.difference.half_width) / abs(self.reference)
+
+    @property
+    def state_half_width(self) -> float:
+        """The widest 95 % half-width of one state's difference series."""
+        return max(d.half_width for d in self.per_state)
+
+    @property
+    def states_differing(self) -> int:
+        """States whose own paired interval excludes zero (where the true difference is zero, as in a null
+        pair, about 1 in 20 at 95 %; more says one state's interval is too narrow)."""
+        return sum(abs(d.mean) > d.half_width for d in self.per_state)
 
 
 def _window_estimates(run: Run, start: float, end: float) -> dict[Key, Estimate]:
@@ -160,8 +170,7 @@ def paired_study(reference: Run, runs: Sequence[Run], length: float) -> list[Pai
         differences = [paired[key] for _, _, paired, _ in states]
         if not abs(means.mean()) > 0 or not all(math.isfinite(d.mean) for d in differences):
             continue
-        rows.append(PairedRow(key, float(means.mean()), replica_means(differences),
-                              tuple(d.mean for d in differences), max(d.half_width for d in differences),
+        rows.append(PairedRow(key, float(means.mean()), replica_means(differences), tuple(differences),
                               max(e[key].half_width for own, other, *_ in states for e in (own, other)),
                               float(np.mean([later[key].mean for *_, later in states]))))
     return rows

@@ -17,7 +17,8 @@ Per key quantity (mass flow at the sensors and through the domain, per-element s
 velocity and speed): the reference's mean over the R windows, the run's mean paired difference +- its 95 %
 half-width (both relative to the reference), "differs" when that interval excludes zero, the bound
 |difference| + half-width (the setting is within a tolerance when the bound is), the per-state
-differences, the largest 95 % half-width of one state's difference series, the largest of a single
+differences, the largest 95 % half-width of one state's difference series, how many states' own
+intervals exclude zero (in a null pair, where the true difference is zero, about 1 in 20), the largest of a single
 window (how well one window resolves the quantity on its own, unpaired), and the mean difference over
 the window's second half alone (the difference series starts at zero, the two runs sharing their
 state: an effect that is still growing within the window shows there larger than over the whole
@@ -51,15 +52,16 @@ def main() -> None:
           f"each; 95 % half-widths relative to the reference's mean, the differences combined as replica means "
           f"({len(runs) - 1} degrees of freedom)")
     print("| quantity | scope | reference | run - reference | differs | bound | per-state differences | "
-          "one state's paired half-width | one window's half-width | second half: run - reference |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "one state's paired half-width | states differing | one window's half-width | second half: run - reference |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for row in rows:
         scale = abs(row.reference)
         d = row.difference
         print(f"| {row.key[0]} | {row.key[1]} | {row.reference:.4g} | {d.mean / scale:+.1%} ± {d.half_width / scale:.1%} | "
               f"{'yes' if abs(d.mean) > d.half_width else 'no'} | {row.bound:.1%} | "
-              f"{', '.join(f'{x / scale:+.1%}' for x in row.per_state)} | {row.state_half_width / scale:.1%} | "
-              f"{row.window_half_width / scale:.1%} | {row.second_half / scale:+.1%} |")
+              f"{', '.join(f'{x.mean / scale:+.1%}' for x in row.per_state)} | {row.state_half_width / scale:.1%} | "
+              f"{row.states_differing}/{len(row.per_state)} | {row.window_half_width / scale:.1%} | "
+              f"{row.second_half / scale:+.1%} |")
     if args.systematics:
         if not (args.setting and args.value and args.where and args.window_text):
             parser.error("--systematics needs --setting, --value, --where and --window-text")
