@@ -149,19 +149,23 @@ def _window_estimates(run: Run, start: float, end: float) -> dict[Key, Estimate]
     return found
 
 
-def paired_study(reference: Run, runs: Sequence[Run], length: float) -> list[PairedRow]:
-    """Each run continues a state of `reference` (its t_startup) for `length` s; per key quantity, the
-    paired differences of the states combined with uncertainty.replica_means (Student's t over the
-    states, never narrower than the difference series' own noise)."""
+def paired_study(reference: Run, runs: Sequence[Run], length: float, skip: float = 0.0) -> list[PairedRow]:
+    """Each run continues a state of `reference` (its t_startup) for `length` s, compared from `skip` s after
+    its start (0: from the shared state; later leaves out the first part, where the two runs still share
+    most of their fluctuation); per key quantity, the paired differences of the states combined with
+    uncertainty.replica_means (Student's t over the states, never narrower than the difference series'
+    own noise)."""
     if len(runs) < 2:
         raise AnalysisInputError(f"{len(runs)} state(s): a paired interval needs 2 or more")
+    if not 0.0 <= skip < length:
+        raise AnalysisInputError(f"skip = {skip:g} s is not allowed: 0 <= skip < the window's {length:g} s")
     states = []
     for run in runs:
-        start = continued_from(run)
-        end = start + length
+        begin = continued_from(run)
+        start, end = begin + skip, begin + length
         states.append((_window_estimates(reference, start, end), _window_estimates(run, start, end),
                        paired_differences(reference, run, start, end),
-                       paired_differences(reference, run, start + length / 2, end)))
+                       paired_differences(reference, run, (start + end) / 2, end)))
     rows = []
     for key in states[0][0]:
         if not all(key in own and key in other and key in paired for own, other, paired, _ in states):

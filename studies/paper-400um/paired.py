@@ -6,7 +6,7 @@ they start from and the screws' phase). The R states' differences are combined a
 (uncertainty.replica_means: Student's t with R - 1 degrees of freedom, never narrower than the
 difference series' own fluctuation allows).
 
-    LC_ALL=C.UTF-8 .venv/bin/python studies/paper-400um/paired.py REFERENCE WINDOW RUN... \
+    LC_ALL=C.UTF-8 .venv/bin/python studies/paper-400um/paired.py REFERENCE WINDOW RUN... [--skip S] \
         [--systematics NAME --setting SETTING --value VALUE --where DIR --window-text TEXT]
 
 With --systematics the worst scope of each quantity goes to the registry the runner's summary and the
@@ -38,6 +38,8 @@ def main() -> None:
     parser.add_argument("reference", help="the reference run (its states were kept from it)")
     parser.add_argument("window", type=float, help="s each state is compared over, from its start")
     parser.add_argument("runs", nargs="+", help="the setting's runs, one per state")
+    parser.add_argument("--skip", type=float, default=0.0, metavar="S",
+                        help="compare from S s after each state's start (default 0: the whole window)")
     parser.add_argument("--systematics", metavar="NAME", help="also add the rows to the systematics registry")
     parser.add_argument("--setting", choices=sorted(systematics.SETTINGS))
     parser.add_argument("--value", help="the runs' value of --setting")
@@ -46,10 +48,11 @@ def main() -> None:
     args = parser.parse_args()
     reference = Run(args.reference)
     runs = [Run(path) for path in args.runs]
-    rows = paired_study(reference, runs, args.window)
+    rows = paired_study(reference, runs, args.window, args.skip)
     starts = ", ".join(f"{continued_from(r):.4f}" for r in runs)
     print(f"{' + '.join(args.runs)} against {args.reference}: {len(runs)} states ({starts} s), {args.window:g} s "
-          f"each; 95 % half-widths relative to the reference's mean, the differences combined as replica means "
+          f"each{f', compared from {args.skip:g} s after its start' if args.skip else ''}; "
+          "95 % half-widths relative to the reference's mean, the differences combined as replica means "
           f"({len(runs) - 1} degrees of freedom)")
     print("| quantity | scope | reference | run - reference | differs | bound | per-state differences | "
           "one state's paired half-width | states differing | one window's half-width | second half: run - reference |")

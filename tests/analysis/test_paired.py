@@ -183,3 +183,27 @@ def test_a_study_over_states_and_its_registry_entries(tmp_path):
     assert {e.quantity for e in entries} == {r.key[0] for r in rows}
     with pytest.raises(AnalysisInputError, match="'rpm' is not allowed"):
         systematics.from_paired(rows, Run(reference).parameters, "x", "y", "z", "rpm", "1")
+
+
+def test_a_study_compared_after_a_skip_leaves_out_the_start(tmp_path):
+    """An offset present only in the window's first half: over the whole window the study finds about half of
+    it, compared from the middle on it finds none; a skip outside [0, window) is refused by name."""
+    reference = tmp_path / "reference"
+    write_run(reference, kind="periodic", dumps=None, meshes=False, seed=7)
+    ends = Run(reference).block_times[1]
+    middle = START + (END - START) / 2
+    runs = []
+    for state in range(3):
+        run = tmp_path / f"state-{state}"
+        shutil.copytree(reference, run)
+        _rewrite_solid_fraction(run, lambda k, value: value + (0.004 if ends[k] <= middle else 0.0))
+        _set_variables(run, t_startup=START)
+        runs.append(Run(run))
+    label = runs[0].zones.labels[ZONE - 1]
+    whole = next(r for r in paired_study(Run(reference), runs, END - START) if r.key == (SOLID_FRACTION, label))
+    later = next(r for r in paired_study(Run(reference), runs, END - START, skip=middle - START)
+                 if r.key == (SOLID_FRACTION, label))
+    assert 0.001 < whole.difference.mean < 0.003
+    assert later.difference.mean == pytest.approx(0.0, abs=1e-12)
+    with pytest.raises(AnalysisInputError, match="skip = 0.6 s is not allowed"):
+        paired_study(Run(reference), runs, END - START, skip=END - START)
