@@ -170,9 +170,11 @@ def test_a_study_over_states_and_its_registry_entries(tmp_path):
     assert abs(row.difference.mean - 0.004) <= row.difference.half_width
     assert row.bound == pytest.approx((abs(row.difference.mean) + row.difference.half_width) / abs(row.reference))
     assert len(row.per_state) == 3
-    # each state's own interval: the offset 0.004 against noise of 0.002 per block over the window
-    assert row.state_half_width == max(d.half_width for d in row.per_state) > 0
-    assert row.states_differing == sum(abs(d.mean) > d.half_width for d in row.per_state) == 3
+    # each state's own interval: the offset 0.004 against noise of 0.002 per block, over 100 blocks the
+    # half-width is about 2 x 0.002 / 10: every state resolves the offset on its own
+    assert all(d.mean == pytest.approx(0.004, abs=0.0015) for d in row.per_state)
+    assert 0 < row.state_half_width < 0.002
+    assert row.states_differing == 3
     untouched = next(r for r in rows if r.key == (SOLID_FRACTION, runs[0].zones.labels[0]))
     assert untouched.states_differing == 0  # an element no run changed: no state differs
     entries = systematics.from_paired(rows, Run(reference).parameters, "test-study", "studies/x", "3 states x 0.6 s",
